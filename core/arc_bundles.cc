@@ -1,0 +1,63 @@
+#include "core/arc_bundles.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace ispq {
+namespace {
+
+int32_t FindRoot(std::vector<int32_t>& parent, int32_t x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+}  // namespace
+
+ArcBundles::ArcBundles(const TMesh& mesh, const ConsistencyMatrix& consistency) {
+  const int n = mesh.num_arcs();
+  std::vector<int32_t> parent(n);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (int r = 0; r < consistency.num_rows(); ++r) {
+    const std::span<const LinearTerm> row = consistency.row(r);
+    if (row.size() != 2) continue;  // one arc on each side
+    const int32_t x = FindRoot(parent, row[0].var), y = FindRoot(parent, row[1].var);
+    if (x != y) parent[std::max(x, y)] = std::min(x, y);  // root = smallest arc
+  }
+  // Number bundles in order of their smallest arc.
+  bundle_of_arc_.assign(n, kNoId);
+  std::vector<std::vector<ArcId>> members;
+  for (ArcId a = 0; a < n; ++a) {
+    const int32_t root = FindRoot(parent, a);
+    if (root == a) {
+      bundle_of_arc_[a] = static_cast<BundleId>(members.size());
+      members.emplace_back();
+    } else {
+      bundle_of_arc_[a] = bundle_of_arc_[root];
+    }
+    members[bundle_of_arc_[a]].push_back(a);
+  }
+  for (const auto& list : members) arcs_.Append(list);
+}
+
+std::vector<LinearTerm> ArcBundles::ToBundleTerms(std::span<const LinearTerm> arc_terms) const {
+  std::vector<LinearTerm> terms;
+  terms.reserve(arc_terms.size());
+  for (const LinearTerm& t : arc_terms) terms.push_back({bundle_of_arc_[t.var], t.coef});
+  std::sort(terms.begin(), terms.end(),
+            [](const LinearTerm& x, const LinearTerm& y) { return x.var < y.var; });
+  std::vector<LinearTerm> merged;
+  for (const LinearTerm& t : terms) {
+    if (!merged.empty() && merged.back().var == t.var) {
+      merged.back().coef += t.coef;
+    } else {
+      merged.push_back(t);
+    }
+  }
+  std::erase_if(merged, [](const LinearTerm& t) { return t.coef == 0; });
+  return merged;
+}
+
+}  // namespace ispq

@@ -1,0 +1,25 @@
+// Block extents and the non-negativity rows C of the paper (eq. 1d, block form): a block's
+// extent along an axis is the sum of q over one of its four edges parallel to that axis. Under
+// consistency all four agree; like the reference, the rows use the edge on the positive side of
+// the two other axes, and the hex count uses the edge on their negative side (format section 7).
+#ifndef ISPQ_CORE_BLOCK_EXTENTS_H_
+#define ISPQ_CORE_BLOCK_EXTENTS_H_
+
+#include <cstdint>
+#include <span>
+
+#include "core/tmesh.h"
+
+namespace ispq {
+
+// Arcs whose sum is the extent row of block b along `axis`.
+std::span<const ArcId> ExtentRowArcs(const TMesh& mesh, BlockId b, int axis);
+
+int64_t BlockExtent(const TMesh& mesh, BlockId b, int axis, std::span<const int64_t> q);
+
+// Sum over blocks of the product of the three extents (meaningful for a valid q only).
+int64_t HexCount(const TMesh& mesh, std::span<const int64_t> q);
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_BLOCK_EXTENTS_H_
