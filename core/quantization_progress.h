@@ -1,0 +1,42 @@
+// Anytime reporting of a running quantization. The algorithm calls the observer on its own
+// thread at each accepted sheet and each separation round; observers must be cheap (copy what
+// they need and return) because they run inside the solve loop.
+#ifndef ISPQ_CORE_QUANTIZATION_PROGRESS_H_
+#define ISPQ_CORE_QUANTIZATION_PROGRESS_H_
+
+#include <cstdint>
+#include <span>
+
+namespace ispq {
+
+enum class QuantizationPhase : uint8_t {
+  kGreedy,      // greedy descent: sheets that bring arcs closer to their targets
+  kSeparation,  // separating sheet updates after a lazy separation round
+  kFailsafe,    // the failsafe (non-negative rows only) separation mode of App. B
+  kFinal,       // the last thorough greedy pass and the final checks
+};
+
+const char* QuantizationPhaseName(QuantizationPhase phase);
+
+struct ProgressEvent {
+  QuantizationPhase phase;
+  int64_t iteration;            // accepted sheets so far
+  int64_t separation_round;     // lazy separation rounds so far
+  double objective;             // d(q, s*l) of the current q
+  int64_t violated_constraints;  // known rows (simple and separation) the current q violates
+  bool separating;              // q satisfies every known row and the last search found nothing
+  double elapsed_seconds;
+  std::span<const int64_t> q;   // current q, only if the observer WantsQuantization()
+};
+
+class ProgressObserver {
+ public:
+  virtual ~ProgressObserver() = default;
+  virtual void OnProgress(const ProgressEvent& event) = 0;
+  // Copying q costs O(arcs); the algorithm fills ProgressEvent::q only when this is true.
+  virtual bool WantsQuantization() const { return false; }
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_QUANTIZATION_PROGRESS_H_

@@ -1,0 +1,54 @@
+// The validator of shared/tmesh-format.md section 7: given any T-mesh and any integer q, reports
+// every consistency violation, every negative block extent, every violated simple row and the
+// separation violations found by the search, each with the offending element ids. Every result
+// the product returns passes it, and tests call it on every result they produce.
+#ifndef ISPQ_CORE_QUANTIZATION_VALIDATOR_H_
+#define ISPQ_CORE_QUANTIZATION_VALIDATOR_H_
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "core/separation_search.h"
+#include "core/simple_constraints.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+struct ConsistencyViolation {
+  PatchId patch;
+  int axis;
+  int64_t difference;  // sum along +axis minus sum along -axis
+};
+
+struct ValidationOptions {
+  SeparationSearchOptions search;
+  // If set, also require q_a >= this bound for every arc (the per-arc non-negativity switch).
+  std::optional<int64_t> per_arc_lower_bound;
+};
+
+struct ValidationReport {
+  std::vector<ConsistencyViolation> consistency;
+  std::vector<SimpleRow> simple;  // violated simple rows (negative extents, collapsed links...)
+  // Filled only when q is consistent and satisfies the simple rows (the search needs both).
+  std::vector<SeparationViolation> separation;
+  bool separation_checked = false;
+
+  bool consistent() const { return consistency.empty(); }
+  bool valid() const { return consistency.empty() && simple.empty() && separation_checked &&
+                              separation.empty(); }
+  // One line per problem, naming the elements, at most max_lines lines.
+  std::string Describe(int max_lines = 20) const;
+};
+
+// q.size() must equal mesh.num_arcs(); otherwise INVALID_ARGUMENT.
+absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh,
+                                                      std::span<const int64_t> q,
+                                                      const ValidationOptions& options = {});
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_QUANTIZATION_VALIDATOR_H_

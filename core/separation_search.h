@@ -1,0 +1,63 @@
+// The lazy separation search for fixed singularities (shared/separation.md; Brueckler, Bommes,
+// Campen 2022, Alg. 1): from every critical node and critical link, a Dijkstra-like search for
+// weakly monotone zero-length paths to another critical entity. Each hit yields a separation
+// row in a default form (mixed axes as signed differences) and a failsafe form (non-negative
+// coefficients only, paper App. B).
+//
+// The search is integer arithmetic on flat arrays; one instance precomputes everything that
+// depends on the mesh alone and reuses its scratch buffers across calls, so one instance serves
+// one thread.
+#ifndef ISPQ_CORE_SEPARATION_SEARCH_H_
+#define ISPQ_CORE_SEPARATION_SEARCH_H_
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/separation_row.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+// How a block's box is formed in the start frame (separation.md section 3.6). kSorted is the
+// correct behaviour; kReferenceUnsorted reproduces the reference implementation, which rejects
+// blocks reached through a sign-flipping rotation, for comparisons with upstream results.
+enum class BlockBoxMode : uint8_t { kSorted, kReferenceUnsorted };
+
+struct SeparationSearchOptions {
+  BlockBoxMode block_box = BlockBoxMode::kSorted;
+};
+
+enum class SeparationTargetKind : uint8_t { kNode, kArc, kPatch };
+
+// One violation: a zero-length weakly monotone path between two critical entities.
+struct SeparationViolation {
+  EntityId start_entity;  // a critical node or link (an id into the mesh's critical entities)
+  int sector;             // index of the start configuration of that entity
+  SeparationTargetKind target_kind;
+  int32_t target;                // node, arc or patch id
+  std::vector<HalfarcId> path;   // halfarcs walked after leaving the start entity
+  SeparationRow default_row;     // coefficients in {-1, +1}, rhs 1
+  SeparationRow failsafe_row;    // coefficients +1 only, rhs 1
+};
+
+class SeparationSearch {
+ public:
+  explicit SeparationSearch(const TMesh& mesh, SeparationSearchOptions options = {});
+  ~SeparationSearch();
+  SeparationSearch(SeparationSearch&&) noexcept;
+  SeparationSearch& operator=(SeparationSearch&&) noexcept;
+
+  // Runs every start configuration (critical nodes by id, then links) on q, which must be
+  // consistent; at most one violation per start configuration, in that order. Deterministic.
+  std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SEPARATION_SEARCH_H_

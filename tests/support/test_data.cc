@@ -1,0 +1,58 @@
+#include "tests/support/test_data.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#include "core/tmesh_file.h"
+#include "core/tmesh_from_proto.h"
+
+namespace ispq::testing {
+
+std::string SharedTMeshDir() { return ISPQ_SHARED_TMESH_DIR; }
+
+std::vector<std::string> SharedTMeshFiles() {
+  std::vector<std::string> files;
+  std::error_code error;
+  for (auto it = std::filesystem::recursive_directory_iterator(SharedTMeshDir(), error);
+       !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
+    const std::string path = it->path().string();
+    if (it->is_regular_file() && path.ends_with(".tmesh.json")) files.push_back(path);
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::string BundledSample(const std::string& file_name) {
+  return std::string(ISPQ_SAMPLE_DIR) + "/" + file_name;
+}
+
+std::string ShortName(const std::string& path) {
+  const std::filesystem::path p(path);
+  std::string model = p.filename().string();
+  model = model.substr(0, model.size() - std::string(".tmesh.json").size());
+  return p.parent_path().filename().string() + "/" + model;
+}
+
+v1::TMesh LoadProtoOrDie(const std::string& path) {
+  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(path);
+  if (!proto.ok()) {
+    std::cerr << "cannot read test input " << path << ": " << proto.status() << "\n";
+    std::abort();
+  }
+  return *std::move(proto);
+}
+
+TMesh TMeshOrDie(const v1::TMesh& proto) {
+  absl::StatusOr<TMesh> mesh = TMeshFromProto(proto);
+  if (!mesh.ok()) {
+    std::cerr << "invalid test mesh " << proto.name() << ": " << mesh.status() << "\n";
+    std::abort();
+  }
+  return *std::move(mesh);
+}
+
+TMesh LoadTMeshOrDie(const std::string& path) { return TMeshOrDie(LoadProtoOrDie(path)); }
+
+}  // namespace ispq::testing
