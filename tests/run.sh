@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh checkout: installs what is missing, builds (Release) and
+# runs every test with CTest, then runs the core unit tests once more under AddressSanitizer and
+# UndefinedBehaviorSanitizer. `.ci/run` calls exactly this.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+bash deploy/install-deps.sh
+
+JOBS=2  # the machines have 2 cores
+
+cmake --preset release >/dev/null
+cmake --build --preset release -j "$JOBS"
+ctest --preset release -j "$JOBS" --timeout 900
+
+echo "== core unit tests under ASan/UBSan =="
+cmake --preset asan >/dev/null
+cmake --build --preset asan -j "$JOBS" --target ispq_unit_tests
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  build/asan/tests/unit/ispq_unit_tests --gtest_brief=1
