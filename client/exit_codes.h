@@ -5,8 +5,8 @@
 namespace ispq::cli {
 
 inline constexpr int kExitOk = 0;
-inline constexpr int kExitUsage = 2;         // bad command line
-inline constexpr int kExitInvalidInput = 3;  // unreadable file or a mesh that fails validation
+inline constexpr int kExitUsage = 2;          // bad command line
+inline constexpr int kExitInvalidInput = 3;   // unreadable file or a mesh that fails validation
 inline constexpr int kExitInvalidResult = 4;  // a quantization that is not valid
 inline constexpr int kExitFailed = 5;         // anything else (solver, I/O, server errors)
 

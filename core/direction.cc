@@ -30,7 +30,7 @@ std::optional<AxisSigns> DecodeComposite(int bits) {
 
 const char* DirName(Dir d) {
   static constexpr std::array<const char*, kNumDirs> kNames = {"POS_U", "NEG_U", "POS_V",
-                                                                     "NEG_V", "POS_W", "NEG_W"};
+                                                               "NEG_V", "POS_W", "NEG_W"};
   return kNames[DirIndex(d)];
 }
 

@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <optional>
 
-
 namespace ispq {
 
 enum class Dir : uint8_t { kPosU = 0, kNegU = 1, kPosV = 2, kNegV = 3, kPosW = 4, kNegW = 5 };

@@ -20,7 +20,7 @@ struct MeshStats {
   int32_t critical_entities = 0;
   int32_t critical_links = 0;
   int32_t critical_regions = 0;
-  int32_t consistency_rows = 0;  // rows of A, two per patch
+  int32_t consistency_rows = 0;          // rows of A, two per patch
   int32_t reduced_consistency_rows = 0;  // rows left after merging bundles (non-trivial ones)
   int32_t bundles = 0;
   int32_t subproblems = 0;

@@ -20,13 +20,13 @@ const char* QuantizationPhaseName(QuantizationPhase phase);
 
 struct ProgressEvent {
   QuantizationPhase phase;
-  int64_t iteration;            // accepted sheets so far
-  int64_t separation_round;     // lazy separation rounds so far
-  double objective;             // d(q, s*l) of the current q
+  int64_t iteration;             // accepted sheets so far
+  int64_t separation_round;      // lazy separation rounds so far
+  double objective;              // d(q, s*l) of the current q
   int64_t violated_constraints;  // known rows (simple and separation) the current q violates
-  bool separating;              // q satisfies every known row and the last search found nothing
+  bool separating;               // q satisfies every known row and the last search found nothing
   double elapsed_seconds;
-  std::span<const int64_t> q;   // current q, only if the observer WantsQuantization()
+  std::span<const int64_t> q;  // current q, only if the observer WantsQuantization()
 };
 
 class ProgressObserver {

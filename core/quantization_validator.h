@@ -38,15 +38,15 @@ struct ValidationReport {
   bool separation_checked = false;
 
   bool consistent() const { return consistency.empty(); }
-  bool valid() const { return consistency.empty() && simple.empty() && separation_checked &&
-                              separation.empty(); }
+  bool valid() const {
+    return consistency.empty() && simple.empty() && separation_checked && separation.empty();
+  }
   // One line per problem, naming the elements, at most max_lines lines.
   std::string Describe(int max_lines = 20) const;
 };
 
 // q.size() must equal mesh.num_arcs(); otherwise INVALID_ARGUMENT.
-absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh,
-                                                      std::span<const int64_t> q,
+absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::span<const int64_t> q,
                                                       const ValidationOptions& options = {});
 
 }  // namespace ispq

@@ -20,17 +20,17 @@
 namespace ispq {
 
 struct QuantizeOptions {
-  double scaling = 1.0;  // s: targets are s * l_a; must be finite and > 0
-  bool mixed_sign = true;           // paper section 4.3.3
-  bool decompose = true;            // independent subproblems (paper section 4.4)
+  double scaling = 1.0;              // s: targets are s * l_a; must be finite and > 0
+  bool mixed_sign = true;            // paper section 4.3.3
+  bool decompose = true;             // independent subproblems (paper section 4.4)
   bool per_arc_nonnegative = false;  // add q_a >= 0 for every arc to the block-extent rows
   SeparationSearchOptions separation;
   double time_limit_seconds = std::numeric_limits<double>::infinity();
 };
 
 enum class Termination : uint8_t {
-  kConverged,   // no improving sheet left and the separation search finds nothing
-  kTimeLimit,   // stopped at the time limit; q is the best valid result found, if any
+  kConverged,    // no improving sheet left and the separation search finds nothing
+  kTimeLimit,    // stopped at the time limit; q is the best valid result found, if any
   kInterrupted,  // stopped by the SolveInterrupter; likewise
 };
 

@@ -36,10 +36,10 @@ struct SeparationViolation {
   EntityId start_entity;  // a critical node or link (an id into the mesh's critical entities)
   int sector;             // index of the start configuration of that entity
   SeparationTargetKind target_kind;
-  int32_t target;                // node, arc or patch id
-  std::vector<HalfarcId> path;   // halfarcs walked after leaving the start entity
-  SeparationRow default_row;     // coefficients in {-1, +1}, rhs 1
-  SeparationRow failsafe_row;    // coefficients +1 only, rhs 1
+  int32_t target;               // node, arc or patch id
+  std::vector<HalfarcId> path;  // halfarcs walked after leaving the start entity
+  SeparationRow default_row;    // coefficients in {-1, +1}, rhs 1
+  SeparationRow failsafe_row;   // coefficients +1 only, rhs 1
 };
 
 class SeparationSearch {

@@ -33,7 +33,8 @@ Subproblems::Subproblems(const TMesh& mesh, const ConsistencyMatrix& consistency
                          const ArcBundles& bundles) {
   DisjointSets sets(bundles.num_bundles());
   auto join_all = [&](std::span<const LinearTerm> bundle_terms) {
-    for (size_t i = 1; i < bundle_terms.size(); ++i) sets.Join(bundle_terms[0].var, bundle_terms[i].var);
+    for (size_t i = 1; i < bundle_terms.size(); ++i)
+      sets.Join(bundle_terms[0].var, bundle_terms[i].var);
   };
   for (int r = 0; r < consistency.num_rows(); ++r) {
     join_all(bundles.ToBundleTerms(consistency.row(r)));

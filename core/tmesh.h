@@ -171,9 +171,7 @@ class TMesh {
   NodeId entity_node_to(EntityId e) const { return entity_nodes_[e][1]; }
   std::span<const HalfarcId> entity_halfarcs(EntityId e) const { return entity_halfarcs_[e]; }
   std::span<const PatchId> entity_patches(EntityId e) const { return entity_patches_[e]; }
-  std::span<const ArcId> entity_boundary_arcs(EntityId e) const {
-    return entity_boundary_arcs_[e];
-  }
+  std::span<const ArcId> entity_boundary_arcs(EntityId e) const { return entity_boundary_arcs_[e]; }
 
   // ---- Resolution levels (format section 9), in file order ----
   std::span<const Level> levels() const { return levels_; }

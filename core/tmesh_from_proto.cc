@@ -89,7 +89,8 @@ class TMeshAssembler {
         if (!std::isfinite(x)) return Invalid("node ", n, ": position is not finite");
       }
       for (int32_t h : node.outgoing_halfarcs()) {
-        if (!ValidHalfarc(h)) return Invalid("node ", n, ": outgoing halfarc ", h, " does not exist");
+        if (!ValidHalfarc(h))
+          return Invalid("node ", n, ": outgoing halfarc ", h, " does not exist");
       }
       if (!v1::SingularType::Value_IsValid(node.singular_type()) ||
           !v1::FeatureType::Value_IsValid(node.feature_type())) {
@@ -115,8 +116,10 @@ class TMeshAssembler {
     mesh_.arc_critical_.resize(num_arcs_);
     for (int a = 0; a < num_arcs_; ++a) {
       const v1::Arc& arc = proto_.arcs(a);
-      if (!ValidNode(arc.from())) return Invalid("arc ", a, ": node 'from' ", arc.from(), " does not exist");
-      if (!ValidNode(arc.to())) return Invalid("arc ", a, ": node 'to' ", arc.to(), " does not exist");
+      if (!ValidNode(arc.from()))
+        return Invalid("arc ", a, ": node 'from' ", arc.from(), " does not exist");
+      if (!ValidNode(arc.to()))
+        return Invalid("arc ", a, ": node 'to' ", arc.to(), " does not exist");
       if (arc.from() == arc.to()) return Invalid("arc ", a, ": starts and ends at node ", arc.to());
       if (!std::isfinite(arc.length()) || arc.length() <= 0) {
         return Invalid("arc ", a, ": length ", arc.length(), " is not a positive finite number");
@@ -171,12 +174,14 @@ class TMeshAssembler {
       const int32_t b = patch.blocks(k);
       if (b == kNoId) {
         ++boundary_sides;
-        if (patch.sides(k) != v1::NONE) return Invalid("patch ", p, ": side ", k, " has no block but is not NONE");
+        if (patch.sides(k) != v1::NONE)
+          return Invalid("patch ", p, ": side ", k, " has no block but is not NONE");
         mesh_.patch_face_sides_[p][k] = Dir::kPosU;
       } else {
         if (!ValidBlock(b)) return Invalid("patch ", p, ": block ", b, " does not exist");
         const std::optional<Dir> side = SingleDir(patch.sides(k));
-        if (!side) return Invalid("patch ", p, ": side ", k, " is not one of the 6 block face sides");
+        if (!side)
+          return Invalid("patch ", p, ": side ", k, " is not one of the 6 block face sides");
         mesh_.patch_face_sides_[p][k] = *side;
       }
       mesh_.patch_blocks_[p][k] = b;
@@ -193,7 +198,8 @@ class TMeshAssembler {
       return Invalid("patch ", p, ": critical flag contradicts boundary || feature");
     }
     const v1::Transition& tr = patch.transition();
-    if (tr.rotation_size() != 3) return Invalid("patch ", p, ": transition rotation needs 3 entries");
+    if (tr.rotation_size() != 3)
+      return Invalid("patch ", p, ": transition rotation needs 3 entries");
     const std::optional<Rotation> rotation =
         Rotation::FromSignedPermutation({tr.rotation(0), tr.rotation(1), tr.rotation(2)});
     if (!rotation) {
@@ -253,9 +259,11 @@ class TMeshAssembler {
       const v1::DirectedHalfarcs& side = patch.halfarcs_by_dir(i);
       const std::optional<Dir> dir = SingleDir(side.dir());
       if (!dir) return Invalid("patch ", p, ": side ", i, " has no single direction");
-      if (dirs & DirBit(*dir)) return Invalid("patch ", p, ": direction ", DirName(*dir), " used by two sides");
+      if (dirs & DirBit(*dir))
+        return Invalid("patch ", p, ": direction ", DirName(*dir), " used by two sides");
       dirs |= DirBit(*dir);
-      if (side.halfarcs_size() == 0) return Invalid("patch ", p, ": side ", DirName(*dir), " is empty");
+      if (side.halfarcs_size() == 0)
+        return Invalid("patch ", p, ": side ", DirName(*dir), " is empty");
       // The run must be contiguous in the cycle.
       const auto cycle = patch.halfarcs();
       const auto start = std::find(cycle.begin(), cycle.end(), side.halfarcs(0));
@@ -315,16 +323,21 @@ class TMeshAssembler {
 
   absl::Status LoadBlock(int b) {
     const v1::Block& block = proto_.blocks(b);
-    if (block.self_adjacent()) return Invalid("block ", b, ": self-adjacent blocks are not supported");
+    if (block.self_adjacent())
+      return Invalid("block ", b, ": self-adjacent blocks are not supported");
     if (block.corners_size() != kNumCorners) {
       return Invalid("block ", b, ": has ", block.corners_size(), " corners, not 8");
     }
     std::array<bool, kNumCorners> seen_corner{};
     for (const v1::Corner& c : block.corners()) {
       const std::optional<int> code = CornerFromUpstreamBits(c.corner());
-      if (!code) return Invalid("block ", b, ": corner key ", v1::UVWDir_Name(c.corner()), " is not a corner");
-      if (seen_corner[*code]) return Invalid("block ", b, ": corner ", v1::UVWDir_Name(c.corner()), " appears twice");
-      if (!ValidNode(c.node())) return Invalid("block ", b, ": corner node ", c.node(), " does not exist");
+      if (!code)
+        return Invalid("block ", b, ": corner key ", v1::UVWDir_Name(c.corner()),
+                       " is not a corner");
+      if (seen_corner[*code])
+        return Invalid("block ", b, ": corner ", v1::UVWDir_Name(c.corner()), " appears twice");
+      if (!ValidNode(c.node()))
+        return Invalid("block ", b, ": corner node ", c.node(), " does not exist");
       seen_corner[*code] = true;
       mesh_.block_corners_[b][*code] = c.node();
     }
@@ -334,15 +347,19 @@ class TMeshAssembler {
     std::array<const v1::Edge*, kNumEdges> edges{};
     for (const v1::Edge& e : block.edges()) {
       const std::optional<int> code = EdgeFromUpstreamBits(e.edge());
-      if (!code) return Invalid("block ", b, ": edge key ", v1::UVWDir_Name(e.edge()), " is not an edge");
-      if (edges[*code]) return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " appears twice");
-      if (e.arcs_size() == 0) return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " has no arcs");
+      if (!code)
+        return Invalid("block ", b, ": edge key ", v1::UVWDir_Name(e.edge()), " is not an edge");
+      if (edges[*code])
+        return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " appears twice");
+      if (e.arcs_size() == 0)
+        return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " has no arcs");
       if (e.halfarcs_size() != e.arcs_size()) {
         return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " lists ", e.arcs_size(),
                        " arcs but ", e.halfarcs_size(), " halfarcs");
       }
       for (int i = 0; i < e.arcs_size(); ++i) {
-        if (!ValidArc(e.arcs(i)) || !ValidHalfarc(e.halfarcs(i)) || ArcOf(e.halfarcs(i)) != e.arcs(i)) {
+        if (!ValidArc(e.arcs(i)) || !ValidHalfarc(e.halfarcs(i)) ||
+            ArcOf(e.halfarcs(i)) != e.arcs(i)) {
           return Invalid("block ", b, ": edge ", v1::UVWDir_Name(e.edge()), " arc ", e.arcs(i),
                          " / halfarc ", e.halfarcs(i), " is invalid");
         }
@@ -357,17 +374,24 @@ class TMeshAssembler {
     std::array<const v1::Face*, kNumDirs> faces{};
     for (const v1::Face& f : block.faces()) {
       const std::optional<Dir> side = SingleDir(f.side());
-      if (!side) return Invalid("block ", b, ": face key ", v1::UVWDir_Name(f.side()), " is not a face side");
-      if (faces[DirIndex(*side)]) return Invalid("block ", b, ": face ", DirName(*side), " appears twice");
-      if (f.patches_size() == 0) return Invalid("block ", b, ": face ", DirName(*side), " has no patches");
+      if (!side)
+        return Invalid("block ", b, ": face key ", v1::UVWDir_Name(f.side()),
+                       " is not a face side");
+      if (faces[DirIndex(*side)])
+        return Invalid("block ", b, ": face ", DirName(*side), " appears twice");
+      if (f.patches_size() == 0)
+        return Invalid("block ", b, ": face ", DirName(*side), " has no patches");
       for (int32_t p : f.patches()) {
-        if (!ValidPatch(p)) return Invalid("block ", b, ": face ", DirName(*side), " patch ", p, " does not exist");
+        if (!ValidPatch(p))
+          return Invalid("block ", b, ": face ", DirName(*side), " patch ", p, " does not exist");
       }
       for (int32_t a : f.arcs()) {
-        if (!ValidArc(a)) return Invalid("block ", b, ": face ", DirName(*side), " arc ", a, " does not exist");
+        if (!ValidArc(a))
+          return Invalid("block ", b, ": face ", DirName(*side), " arc ", a, " does not exist");
       }
       for (int32_t n : f.nodes()) {
-        if (!ValidNode(n)) return Invalid("block ", b, ": face ", DirName(*side), " node ", n, " does not exist");
+        if (!ValidNode(n))
+          return Invalid("block ", b, ": face ", DirName(*side), " node ", n, " does not exist");
       }
       faces[DirIndex(*side)] = &f;
     }
@@ -382,32 +406,42 @@ class TMeshAssembler {
     DirSet dirs_seen = 0;
     for (const v1::DirectedArcs& entry : block.arcs_by_dir()) {
       const std::optional<Dir> dir = SingleDir(entry.dir());
-      if (!dir) return Invalid("block ", b, ": arcsByDir key ", v1::UVWDir_Name(entry.dir()), " is not a direction");
-      if (dirs_seen & DirBit(*dir)) return Invalid("block ", b, ": arcsByDir lists ", DirName(*dir), " twice");
+      if (!dir)
+        return Invalid("block ", b, ": arcsByDir key ", v1::UVWDir_Name(entry.dir()),
+                       " is not a direction");
+      if (dirs_seen & DirBit(*dir))
+        return Invalid("block ", b, ": arcsByDir lists ", DirName(*dir), " twice");
       dirs_seen |= DirBit(*dir);
       for (int32_t a : entry.arcs()) {
         if (!ValidArc(a)) return Invalid("block ", b, ": arcsByDir arc ", a, " does not exist");
         arcs.push_back({a, *dir});
       }
     }
-    std::sort(arcs.begin(), arcs.end(), [](const BlockArc& x, const BlockArc& y) { return x.arc < y.arc; });
+    std::sort(arcs.begin(), arcs.end(),
+              [](const BlockArc& x, const BlockArc& y) { return x.arc < y.arc; });
     for (size_t i = 1; i < arcs.size(); ++i) {
-      if (arcs[i].arc == arcs[i - 1].arc) return Invalid("block ", b, ": arc ", arcs[i].arc, " appears twice in arcsByDir");
+      if (arcs[i].arc == arcs[i - 1].arc)
+        return Invalid("block ", b, ": arc ", arcs[i].arc, " appears twice in arcsByDir");
     }
     mesh_.block_arcs_.Append(arcs);
 
     std::vector<BlockNodeUvw> uvw;
     for (const v1::NodeUvw& entry : block.node_uvw()) {
-      if (!ValidNode(entry.node())) return Invalid("block ", b, ": nodeUvw node ", entry.node(), " does not exist");
-      if (entry.uvw_size() != 3) return Invalid("block ", b, ": nodeUvw of node ", entry.node(), " needs 3 coordinates");
+      if (!ValidNode(entry.node()))
+        return Invalid("block ", b, ": nodeUvw node ", entry.node(), " does not exist");
+      if (entry.uvw_size() != 3)
+        return Invalid("block ", b, ": nodeUvw of node ", entry.node(), " needs 3 coordinates");
       for (double x : entry.uvw()) {
-        if (!std::isfinite(x)) return Invalid("block ", b, ": nodeUvw of node ", entry.node(), " is not finite");
+        if (!std::isfinite(x))
+          return Invalid("block ", b, ": nodeUvw of node ", entry.node(), " is not finite");
       }
       uvw.push_back({entry.node(), {entry.uvw(0), entry.uvw(1), entry.uvw(2)}});
     }
-    std::sort(uvw.begin(), uvw.end(), [](const BlockNodeUvw& x, const BlockNodeUvw& y) { return x.node < y.node; });
+    std::sort(uvw.begin(), uvw.end(),
+              [](const BlockNodeUvw& x, const BlockNodeUvw& y) { return x.node < y.node; });
     for (size_t i = 1; i < uvw.size(); ++i) {
-      if (uvw[i].node == uvw[i - 1].node) return Invalid("block ", b, ": node ", uvw[i].node, " appears twice in nodeUvw");
+      if (uvw[i].node == uvw[i - 1].node)
+        return Invalid("block ", b, ": node ", uvw[i].node, " appears twice in nodeUvw");
     }
     mesh_.block_node_uvw_.Append(uvw);
     return absl::OkStatus();
@@ -418,12 +452,14 @@ class TMeshAssembler {
     std::vector<int> listed(2 * static_cast<size_t>(num_arcs_), 0);
     for (NodeId n = 0; n < num_nodes_; ++n) {
       for (HalfarcId h : mesh_.outgoing_halfarcs(n)) {
-        if (mesh_.tail(h) != n) return Invalid("node ", n, ": outgoing halfarc ", h, " starts at node ", mesh_.tail(h));
+        if (mesh_.tail(h) != n)
+          return Invalid("node ", n, ": outgoing halfarc ", h, " starts at node ", mesh_.tail(h));
         if (listed[h]++) return Invalid("node ", n, ": outgoing halfarc ", h, " listed twice");
       }
     }
     for (HalfarcId h = 0; h < 2 * num_arcs_; ++h) {
-      if (!listed[h]) return Invalid("node ", mesh_.tail(h), ": outgoing halfarc ", h, " is missing");
+      if (!listed[h])
+        return Invalid("node ", mesh_.tail(h), ": outgoing halfarc ", h, " is missing");
     }
     return absl::OkStatus();
   }
@@ -435,7 +471,8 @@ class TMeshAssembler {
       for (HalfarcId h : mesh_.patch_cycle(p)) expected[ArcOf(h)].push_back(2 * p + (h & 1));
     }
     for (ArcId a = 0; a < num_arcs_; ++a) {
-      std::vector<HalfpatchId> listed(mesh_.arc_halfpatches(a).begin(), mesh_.arc_halfpatches(a).end());
+      std::vector<HalfpatchId> listed(mesh_.arc_halfpatches(a).begin(),
+                                      mesh_.arc_halfpatches(a).end());
       std::sort(listed.begin(), listed.end());
       std::sort(expected[a].begin(), expected[a].end());
       if (listed != expected[a]) {
@@ -452,7 +489,8 @@ class TMeshAssembler {
     for (BlockId b = 0; b < num_blocks_; ++b) {
       for (HalfpatchId hp : mesh_.block_halfpatches(b)) {
         if (mesh_.halfpatch_block(hp) != b) {
-          return Invalid("block ", b, ": lists halfpatch ", hp, " whose block is ", mesh_.halfpatch_block(hp));
+          return Invalid("block ", b, ": lists halfpatch ", hp, " whose block is ",
+                         mesh_.halfpatch_block(hp));
         }
       }
       for (Dir side : kAllDirs) {
@@ -493,7 +531,8 @@ class TMeshAssembler {
         if (b == kNoId) continue;
         for (HalfarcId h : mesh_.patch_cycle(p)) {
           const std::optional<Dir> d = mesh_.HalfarcDirInBlock(h, b);
-          if (!d) return Invalid("patch ", p, ": arc ", ArcOf(h), " of its cycle is not on block ", b);
+          if (!d)
+            return Invalid("patch ", p, ": arc ", ArcOf(h), " of its cycle is not on block ", b);
           if (AxisOf(*d) == AxisOf(mesh_.patch_face_side(p, k))) {
             return Invalid("patch ", p, ": arc ", ArcOf(h), " runs across face ",
                            DirName(mesh_.patch_face_side(p, k)), " of block ", b);
@@ -530,12 +569,13 @@ class TMeshAssembler {
       from_cycles.erase(std::unique(from_cycles.begin(), from_cycles.end()), from_cycles.end());
       const auto arcs = mesh_.block_arcs(b);
       if (from_cycles.size() != arcs.size()) {
-        return Invalid("block ", b, ": arcsByDir lists ", arcs.size(), " arcs but its patches have ",
-                       from_cycles.size());
+        return Invalid("block ", b, ": arcsByDir lists ", arcs.size(),
+                       " arcs but its patches have ", from_cycles.size());
       }
       for (size_t i = 0; i < arcs.size(); ++i) {
         if (arcs[i].arc != from_cycles[i]) {
-          return Invalid("block ", b, ": arc ", arcs[i].arc, " in arcsByDir is on none of its patches");
+          return Invalid("block ", b, ": arc ", arcs[i].arc,
+                         " in arcsByDir is on none of its patches");
         }
       }
     }
@@ -583,10 +623,12 @@ class TMeshAssembler {
       for (const BlockArc& ba : mesh_.block_arcs(b)) {
         const BlockNodeUvw* from = FindUvw(b, mesh_.arc_from(ba.arc));
         const BlockNodeUvw* to = FindUvw(b, mesh_.arc_to(ba.arc));
-        if (!from || !to) return Invalid("block ", b, ": nodeUvw lacks an endpoint of arc ", ba.arc);
+        if (!from || !to)
+          return Invalid("block ", b, ": nodeUvw lacks an endpoint of arc ", ba.arc);
         const double length = mesh_.arc_length(ba.arc);
         double scale = 1.0;
-        for (int i = 0; i < 3; ++i) scale = std::max({scale, std::abs(from->uvw[i]), std::abs(to->uvw[i])});
+        for (int i = 0; i < 3; ++i)
+          scale = std::max({scale, std::abs(from->uvw[i]), std::abs(to->uvw[i])});
         for (int i = 0; i < 3; ++i) {
           const double expected = i == AxisOf(ba.dir) ? SignOf(ba.dir) * length : 0.0;
           if (std::abs(to->uvw[i] - from->uvw[i] - expected) > options_.length_tolerance * scale) {
@@ -634,7 +676,8 @@ class TMeshAssembler {
       std::vector<BlockId> radial;
       for (HalfpatchId hp : mesh_.arc_halfpatches(a)) {
         const BlockId b = mesh_.halfpatch_block(hp);
-        if (b != kNoId && std::find(radial.begin(), radial.end(), b) == radial.end()) radial.push_back(b);
+        if (b != kNoId && std::find(radial.begin(), radial.end(), b) == radial.end())
+          radial.push_back(b);
       }
       std::vector<BlockId> sorted = radial;
       std::sort(sorted.begin(), sorted.end());
@@ -675,8 +718,8 @@ class TMeshAssembler {
       }
       bool critical = (singular != 0 && singular != 2) || mesh_.node_feature(n);
       if (present.arcs()) {
-        critical = critical || (feature != 0 && feature != 2) ||
-                   (feature == 2 && singular_non_feature);
+        critical =
+            critical || (feature != 0 && feature != 2) || (feature == 2 && singular_non_feature);
       }
       if (present.patches()) {
         critical = critical || (feature == 0 && singular == 2 && node_on_feature_patch[n] &&
@@ -699,7 +742,8 @@ class TMeshAssembler {
       const v1::CriticalEntity& entity = proto_.critical_entities(e);
       if (entity.id() != e) return Invalid("critical entity ", e, ": id is ", entity.id());
       for (int32_t h : entity.halfarcs()) {
-        if (!ValidHalfarc(h)) return Invalid("critical entity ", e, ": halfarc ", h, " does not exist");
+        if (!ValidHalfarc(h))
+          return Invalid("critical entity ", e, ": halfarc ", h, " does not exist");
       }
       for (int32_t p : entity.patches()) {
         if (!ValidPatch(p)) return Invalid("critical entity ", e, ": patch ", p, " does not exist");
@@ -715,22 +759,28 @@ class TMeshAssembler {
           }
           break;
         case 1: {
-          if (entity.halfarcs_size() == 0 || !ValidNode(entity.node_from()) || !ValidNode(entity.node_to())) {
+          if (entity.halfarcs_size() == 0 || !ValidNode(entity.node_from()) ||
+              !ValidNode(entity.node_to())) {
             return Invalid("critical entity ", e, ": a link needs halfarcs and two end nodes");
           }
           NodeId at = entity.node_from();
           for (int32_t h : entity.halfarcs()) {
-            if (mesh_.tail(h) != at) return Invalid("critical entity ", e, ": link is not a chain at halfarc ", h);
-            if (!mesh_.arc_critical(ArcOf(h))) return Invalid("critical entity ", e, ": link arc ", ArcOf(h), " is not critical");
+            if (mesh_.tail(h) != at)
+              return Invalid("critical entity ", e, ": link is not a chain at halfarc ", h);
+            if (!mesh_.arc_critical(ArcOf(h)))
+              return Invalid("critical entity ", e, ": link arc ", ArcOf(h), " is not critical");
             at = mesh_.head(h);
           }
-          if (at != entity.node_to()) return Invalid("critical entity ", e, ": link does not end at node ", entity.node_to());
+          if (at != entity.node_to())
+            return Invalid("critical entity ", e, ": link does not end at node ", entity.node_to());
           break;
         }
         case 2:
-          if (entity.patches_size() == 0) return Invalid("critical entity ", e, ": a region needs patches");
+          if (entity.patches_size() == 0)
+            return Invalid("critical entity ", e, ": a region needs patches");
           for (int32_t p : entity.patches()) {
-            if (!mesh_.patch_critical(p)) return Invalid("critical entity ", e, ": region patch ", p, " is not critical");
+            if (!mesh_.patch_critical(p))
+              return Invalid("critical entity ", e, ": region patch ", p, " is not critical");
           }
           break;
         default:
@@ -750,7 +800,8 @@ class TMeshAssembler {
     for (int i = 0; i < proto_.levels_size(); ++i) {
       const v1::Level& level = proto_.levels(i);
       if (!IsLevelPercent(level.percent())) {
-        return Invalid("level ", i, ": percent ", level.percent(), " is not one of the format's levels");
+        return Invalid("level ", i, ": percent ", level.percent(),
+                       " is not one of the format's levels");
       }
       const double expected = *ScalingForPercent(mesh_.arc_lengths(), level.percent());
       if (!std::isfinite(level.scaling()) ||
@@ -769,7 +820,8 @@ class TMeshAssembler {
   TMesh mesh_;
 };
 
-absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto, const TMeshValidationOptions& options) {
+absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
+                                     const TMeshValidationOptions& options) {
   return TMeshAssembler(proto, options).Assemble();
 }
 

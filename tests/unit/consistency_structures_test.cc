@@ -29,7 +29,8 @@ TEST(ConsistencyStructuresTest, SingleCube) {
   }
   for (int r = 0; r < consistency.num_rows(); ++r) EXPECT_EQ(consistency.RowValue(r, q), 0);
   EXPECT_EQ(HexCount(cube, q), 24);
-  for (int axis = 0; axis < 3; ++axis) EXPECT_EQ(BlockExtent(cube, 0, axis, q), extent_of_axis[axis]);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_EQ(BlockExtent(cube, 0, axis, q), extent_of_axis[axis]);
 
   // Changing one arc breaks exactly the two rows of the patches containing it... and no others.
   q[0] += 1;
@@ -54,11 +55,11 @@ TEST(ConsistencyStructuresTest, BundlingMergesTerms) {
 TEST(ResolutionLevelsTest, MatchesTheFormatDefinition) {
   const std::vector<double> lengths = {4.0, 1.0, 2.0, 8.0};
   EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 0), 0.5 / 1.0);
-  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 25), 0.5 / 2.0);   // k = 1
-  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 50), 0.5 / 4.0);   // k = 2
+  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 25), 0.5 / 2.0);  // k = 1
+  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 50), 0.5 / 4.0);  // k = 2
   EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 100), 0.999 * 0.5 / 8.0);
-  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 10), 0.5 / 1.0);   // round(0.4) = 0
-  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 63), 0.5 / 8.0);   // round(2.52) = 3
+  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 10), 0.5 / 1.0);  // round(0.4) = 0
+  EXPECT_DOUBLE_EQ(*ScalingForPercent(lengths, 63), 0.5 / 8.0);  // round(2.52) = 3
   EXPECT_FALSE(ScalingForPercent({}, 5).has_value());
   EXPECT_FALSE(ScalingForPercent(lengths, 101).has_value());
 }

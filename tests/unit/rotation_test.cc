@@ -9,7 +9,8 @@ namespace {
 
 TEST(RotationTest, TwentyFourDistinctProperRotations) {
   std::set<std::array<int, 3>> seen;
-  for (int i = 0; i < Rotation::kCount; ++i) seen.insert(Rotation::FromIndex(i).SignedPermutation());
+  for (int i = 0; i < Rotation::kCount; ++i)
+    seen.insert(Rotation::FromIndex(i).SignedPermutation());
   EXPECT_EQ(seen.size(), 24u);
   EXPECT_TRUE(Rotation().IsIdentity());
   EXPECT_EQ(Rotation().SignedPermutation(), (std::array<int, 3>{1, 2, 3}));

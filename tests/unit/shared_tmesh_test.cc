@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "core/arc_bundles.h"
+#include "core/block_extents.h"
 #include "core/consistency_matrix.h"
 #include "core/mesh_stats.h"
 #include "core/subproblems.h"
-#include "core/block_extents.h"
 #include "core/tmesh_from_proto.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"

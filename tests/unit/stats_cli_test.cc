@@ -17,7 +17,8 @@ testing::CommandResult RunIspq(const std::string& args) {
 }
 
 TEST(StatsCliTest, PrintsJsonCounts) {
-  const testing::CommandResult r = RunIspq("stats " + testing::BundledSample("s01c_cube.tmesh.json") + " --json");
+  const testing::CommandResult r =
+      RunIspq("stats " + testing::BundledSample("s01c_cube.tmesh.json") + " --json");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_THAT(r.output, HasSubstr("\"blocks\":1"));
   EXPECT_THAT(r.output, HasSubstr("\"patches\":6"));
@@ -28,7 +29,8 @@ TEST(StatsCliTest, PrintsJsonCounts) {
 }
 
 TEST(StatsCliTest, PrintsHumanReadableCounts) {
-  const testing::CommandResult r = RunIspq("stats " + testing::BundledSample("s07c_notch.tmesh.json"));
+  const testing::CommandResult r =
+      RunIspq("stats " + testing::BundledSample("s07c_notch.tmesh.json"));
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_THAT(r.output, HasSubstr("bundles"));
   EXPECT_THAT(r.output, HasSubstr("s07c_notch"));

@@ -2,11 +2,11 @@
 // generated from a real file, is rejected with a message that names the offending element.
 #include "core/tmesh_from_proto.h"
 
-#include <cmath>
 #include <cctype>
+#include <cmath>
 #include <functional>
-#include <set>
 #include <limits>
+#include <set>
 #include <string>
 
 #include "core/tmesh_file.h"
@@ -22,8 +22,8 @@ using ::testing::HasSubstr;
 
 // A real mesh with interior patches and non-identity transitions.
 const v1::TMesh& Tetrahedron() {
-  static const v1::TMesh* const kMesh = new v1::TMesh(
-      testing::LoadProtoOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
+  static const v1::TMesh* const kMesh =
+      new v1::TMesh(testing::LoadProtoOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
   return *kMesh;
 }
 
@@ -68,10 +68,10 @@ std::vector<Corruption> Corruptions() {
        "arc 3: node 'from' 2147483647 does not exist"},
       {"arc to negative", [](v1::TMesh& t) { t.mutable_arcs(4)->set_to(-5); },
        "arc 4: node 'to' -5 does not exist"},
-      {"arc self loop",
-       [](v1::TMesh& t) { t.mutable_arcs(5)->set_to(t.arcs(5).from()); }, "arc 5: starts and ends"},
-      {"arc length NaN",
-       [](v1::TMesh& t) { t.mutable_arcs(6)->set_length(std::nan("")); }, "arc 6: length nan"},
+      {"arc self loop", [](v1::TMesh& t) { t.mutable_arcs(5)->set_to(t.arcs(5).from()); },
+       "arc 5: starts and ends"},
+      {"arc length NaN", [](v1::TMesh& t) { t.mutable_arcs(6)->set_length(std::nan("")); },
+       "arc 6: length nan"},
       {"arc length negative", [](v1::TMesh& t) { t.mutable_arcs(7)->set_length(-1.0); },
        "arc 7: length -1"},
       {"arc length infinite",
@@ -114,8 +114,7 @@ std::vector<Corruption> Corruptions() {
       {"node critical flag",
        [](v1::TMesh& t) { t.mutable_nodes(0)->set_critical(!t.nodes(0).critical()); },
        "node 0: critical flag"},
-      {"patch block huge id",
-       [](v1::TMesh& t) { t.mutable_patches(0)->set_blocks(0, kHugeId); },
+      {"patch block huge id", [](v1::TMesh& t) { t.mutable_patches(0)->set_blocks(0, kHugeId); },
        "patch 0: block 2147483647 does not exist"},
       {"patch self adjacent",
        [interior](v1::TMesh& t) {
@@ -145,14 +144,16 @@ std::vector<Corruption> Corruptions() {
       {"patch sides unequal",
        [](v1::TMesh& t) {
          // Lengthen one side's first arc everywhere it is used: the patch sides now differ.
-         v1::DirectedHalfarcs* side = SideOf(t.mutable_patches(0), t.patches(0).halfarcs_by_dir(0).dir());
+         v1::DirectedHalfarcs* side =
+             SideOf(t.mutable_patches(0), t.patches(0).halfarcs_by_dir(0).dir());
          const int arc = side->halfarcs(0) >> 1;
          t.mutable_arcs(arc)->set_length(t.arcs(arc).length() * 1.5);
        },
        "has continuous length"},
       {"transition not a permutation",
        [rotated](v1::TMesh& t) {
-         t.mutable_patches(rotated)->mutable_transition()->set_rotation(1, t.patches(rotated).transition().rotation(0));
+         t.mutable_patches(rotated)->mutable_transition()->set_rotation(
+             1, t.patches(rotated).transition().rotation(0));
        },
        rotated_name + " transition rotation"},
       {"transition improper",
@@ -169,7 +170,8 @@ std::vector<Corruption> Corruptions() {
          r->Set(2, 3);
        },
        interior_name + " transition does not map"},
-      {"boundary transition", [](v1::TMesh& t) {
+      {"boundary transition",
+       [](v1::TMesh& t) {
          for (int p = 0; p < t.patches_size(); ++p) {
            if (t.patches(p).blocks(1) == -1) {
              auto* r = t.mutable_patches(p)->mutable_transition()->mutable_rotation();
@@ -181,13 +183,17 @@ std::vector<Corruption> Corruptions() {
        },
        "boundary patch with a non-identity transition"},
       {"transition translation NaN",
-       [](v1::TMesh& t) { t.mutable_patches(0)->mutable_transition()->set_translation(0, std::nan("")); },
+       [](v1::TMesh& t) {
+         t.mutable_patches(0)->mutable_transition()->set_translation(0, std::nan(""));
+       },
        "patch 0: transition translation is not finite"},
       {"block seven corners",
        [](v1::TMesh& t) { t.mutable_blocks(0)->mutable_corners()->RemoveLast(); },
        "block 0: has 7 corners, not 8"},
       {"block duplicate corner",
-       [](v1::TMesh& t) { t.mutable_blocks(1)->mutable_corners(1)->set_corner(t.blocks(1).corners(0).corner()); },
+       [](v1::TMesh& t) {
+         t.mutable_blocks(1)->mutable_corners(1)->set_corner(t.blocks(1).corners(0).corner());
+       },
        "block 1: corner"},
       {"block corner is an edge key",
        [](v1::TMesh& t) { t.mutable_blocks(1)->mutable_corners(0)->set_corner(v1::POS_U_POS_V); },
@@ -201,8 +207,7 @@ std::vector<Corruption> Corruptions() {
          e->set_halfarcs(0, e->halfarcs(0) ^ 1);
        },
        "block 0: edge"},
-      {"block five faces",
-       [](v1::TMesh& t) { t.mutable_blocks(2)->mutable_faces()->RemoveLast(); },
+      {"block five faces", [](v1::TMesh& t) { t.mutable_blocks(2)->mutable_faces()->RemoveLast(); },
        "block 2: has 5 faces, not 6"},
       {"block face lists foreign patch",
        [](v1::TMesh& t) {
@@ -313,18 +318,33 @@ std::string ReplaceFirst(std::string text, const std::string& from, const std::s
 }
 
 TEST(TMeshJsonTest, MalformedDocumentsAreRejected) {
-  const std::string json = *ReadFileToString(testing::BundledSample("s04u_tetrahedron.tmesh.json"), 1 << 20);
+  const std::string json =
+      *ReadFileToString(testing::BundledSample("s04u_tetrahedron.tmesh.json"), 1 << 20);
   const std::vector<JsonCorruption> cases = {
-      {"truncated", [](const std::string& s) { return s.substr(0, s.size() / 2); }, "not a T-mesh JSON document"},
+      {"truncated", [](const std::string& s) { return s.substr(0, s.size() / 2); },
+       "not a T-mesh JSON document"},
       {"empty", [](const std::string&) { return std::string(); }, "not a T-mesh JSON document"},
-      {"not json", [](const std::string&) { return std::string("hello"); }, "not a T-mesh JSON document"},
-      {"wrong type", [](const std::string& s) { return ReplaceFirst(s, "\"length\":", "\"length\":\"x\","
-                                                                    "\"ignored\":"); }, "not a T-mesh JSON document"},
-      {"id beyond int32", [](const std::string& s) { return ReplaceFirst(s, "\"from\":", "\"from\":2147483648,\"to2\":"); },
+      {"not json", [](const std::string&) { return std::string("hello"); },
        "not a T-mesh JSON document"},
-      {"unknown key", [](const std::string& s) { return ReplaceFirst(s, "\"name\":", "\"nmae\":\"x\",\"name\":"); },
+      {"wrong type",
+       [](const std::string& s) {
+         return ReplaceFirst(s, "\"length\":",
+                             "\"length\":\"x\","
+                             "\"ignored\":");
+       },
        "not a T-mesh JSON document"},
-      {"unknown enum", [](const std::string& s) { return ReplaceFirst(s, "\"POS_U\"", "\"SIDEWAYS\""); },
+      {"id beyond int32",
+       [](const std::string& s) {
+         return ReplaceFirst(s, "\"from\":", "\"from\":2147483648,\"to2\":");
+       },
+       "not a T-mesh JSON document"},
+      {"unknown key",
+       [](const std::string& s) {
+         return ReplaceFirst(s, "\"name\":", "\"nmae\":\"x\",\"name\":");
+       },
+       "not a T-mesh JSON document"},
+      {"unknown enum",
+       [](const std::string& s) { return ReplaceFirst(s, "\"POS_U\"", "\"SIDEWAYS\""); },
        "not a T-mesh JSON document"},
   };
   for (const JsonCorruption& c : cases) {
