@@ -31,4 +31,20 @@ int64_t HexCount(const TMesh& mesh, std::span<const int64_t> q) {
   return hexes;
 }
 
+double ContinuousHexVolume(const TMesh& mesh) {
+  double volume = 0;
+  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+    double product = 1;
+    for (int axis = 0; axis < 3; ++axis) {
+      double extent = 0;
+      for (ArcId a : mesh.block_edge_arcs(b, EdgeCode(axis, false, false))) {
+        extent += mesh.arc_length(a);
+      }
+      product *= extent;
+    }
+    volume += product;
+  }
+  return volume;
+}
+
 }  // namespace ispq

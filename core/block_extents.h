@@ -20,6 +20,10 @@ int64_t BlockExtent(const TMesh& mesh, BlockId b, int axis, std::span<const int6
 // Sum over blocks of the product of the three extents (meaningful for a valid q only).
 int64_t HexCount(const TMesh& mesh, std::span<const int64_t> q);
 
+// The same sum over the continuous (unscaled) lengths: the hex count at scaling 1 before
+// rounding. Scaling by s multiplies it by s^3.
+double ContinuousHexVolume(const TMesh& mesh);
+
 }  // namespace ispq
 
 #endif  // ISPQ_CORE_BLOCK_EXTENTS_H_

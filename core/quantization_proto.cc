@@ -1,0 +1,147 @@
+#include "core/quantization_proto.h"
+
+#include <cmath>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "core/block_extents.h"
+#include "core/resolution_levels.h"
+
+namespace ispq {
+namespace {
+
+v1::Phase PhaseToProto(QuantizationPhase phase) {
+  switch (phase) {
+    case QuantizationPhase::kGreedy:
+      return v1::GREEDY;
+    case QuantizationPhase::kSeparation:
+      return v1::SEPARATION;
+    case QuantizationPhase::kFailsafe:
+      return v1::FAILSAFE;
+    case QuantizationPhase::kFinal:
+      return v1::FINAL;
+  }
+  return v1::PHASE_UNSPECIFIED;
+}
+
+v1::Termination TerminationToProto(Termination termination) {
+  switch (termination) {
+    case Termination::kConverged:
+      return v1::CONVERGED;
+    case Termination::kTimeLimit:
+      return v1::TIME_LIMIT;
+    case Termination::kInterrupted:
+      return v1::INTERRUPTED;
+  }
+  return v1::TERMINATION_UNSPECIFIED;
+}
+
+}  // namespace
+
+absl::StatusOr<double> ResolveScaling(const v1::Scaling& scaling, const TMesh& mesh) {
+  switch (scaling.kind_case()) {
+    case v1::Scaling::kFactor:
+      if (!std::isfinite(scaling.factor()) || scaling.factor() <= 0) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("scaling factor ", scaling.factor(), " is not a positive finite number"));
+      }
+      return scaling.factor();
+    case v1::Scaling::kLevelPercent:
+      if (!IsLevelPercent(scaling.level_percent())) {
+        return absl::InvalidArgumentError(absl::StrCat(
+            "level ", scaling.level_percent(), " is not one of 0, 1, 5, 10, 17, 25, 50, 100"));
+      }
+      return *ScalingForPercent(mesh.arc_lengths(), scaling.level_percent());
+    case v1::Scaling::kTargetHexes: {
+      if (scaling.target_hexes() <= 0) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("target hex count ", scaling.target_hexes(), " is not positive"));
+      }
+      // Continuous hex count grows with s^3.
+      const double volume = ContinuousHexVolume(mesh);
+      return std::cbrt(static_cast<double>(scaling.target_hexes()) / volume);
+    }
+    case v1::Scaling::KIND_NOT_SET:
+      break;
+  }
+  return absl::InvalidArgumentError(
+      "no scaling given: set a factor, a level percent or a target hex count");
+}
+
+absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationOptions& proto,
+                                                         const TMesh& mesh) {
+  absl::StatusOr<double> scaling = ResolveScaling(proto.scaling(), mesh);
+  if (!scaling.ok()) return scaling.status();
+  QuantizeOptions options;
+  options.scaling = *scaling;
+  if (proto.has_mixed_sign()) options.mixed_sign = proto.mixed_sign();
+  if (proto.has_decompose()) options.decompose = proto.decompose();
+  options.per_arc_nonnegative = proto.per_arc_nonnegative();
+  options.separation.block_box =
+      proto.reference_block_boxes() ? BlockBoxMode::kReferenceUnsorted : BlockBoxMode::kSorted;
+  if (proto.has_time_limit()) {
+    const double seconds = static_cast<double>(proto.time_limit().seconds()) +
+                           1e-9 * static_cast<double>(proto.time_limit().nanos());
+    if (!(seconds > 0)) {
+      return absl::InvalidArgumentError(absl::StrCat("time limit ", seconds, "s is not positive"));
+    }
+    options.time_limit_seconds = seconds;
+  }
+  return options;
+}
+
+v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, double scaling,
+                                                 const TMesh& mesh) {
+  v1::QuantizationResult proto;
+  proto.mutable_q()->Reserve(static_cast<int>(result.q.size()));
+  for (int64_t value : result.q) proto.add_q(static_cast<int32_t>(value));
+  proto.set_objective(result.objective);
+  proto.set_hexes(result.valid ? result.hexes : 0);
+  proto.set_scaling(scaling);
+  proto.set_valid(result.valid);
+  proto.set_termination(TerminationToProto(result.termination));
+  proto.set_mesh_name(mesh.name());
+  const QuantizeStats& s = result.stats;
+  v1::QuantizationStats* stats = proto.mutable_stats();
+  stats->set_lp_solves(s.lp_solves);
+  stats->set_sheets_inflating(s.sheets_inflating);
+  stats->set_sheets_deflating(s.sheets_deflating);
+  stats->set_sheets_mixed(s.sheets_mixed);
+  stats->set_separating_updates(s.separating_updates);
+  stats->set_failsafe_updates(s.failsafe_updates);
+  stats->set_lcd_one(s.lcd_one);
+  stats->set_lcd_two(s.lcd_two);
+  stats->set_lcd_more(s.lcd_more);
+  stats->set_separation_rounds(s.separation_rounds);
+  stats->set_separation_rows(s.separation_rows);
+  stats->set_subproblems(s.subproblems);
+  stats->set_greedy_seconds(s.greedy_seconds);
+  stats->set_separation_search_seconds(s.separation_search_seconds);
+  stats->set_separating_update_seconds(s.separating_update_seconds);
+  stats->set_solve_seconds(s.solve_seconds);
+  return proto;
+}
+
+v1::Progress ProgressToProto(const ProgressEvent& event) {
+  v1::Progress proto;
+  proto.set_phase(PhaseToProto(event.phase));
+  proto.set_iteration(event.iteration);
+  proto.set_separation_round(event.separation_round);
+  proto.set_objective(event.objective);
+  proto.set_violated_constraints(event.violated_constraints);
+  proto.set_separating(event.separating);
+  proto.set_elapsed_seconds(event.elapsed_seconds);
+  return proto;
+}
+
+absl::StatusOr<std::vector<int64_t>> QuantizationFromProto(const v1::QuantizationResult& result,
+                                                           const TMesh& mesh) {
+  if (result.q_size() != mesh.num_arcs()) {
+    return absl::InvalidArgumentError(absl::StrCat("the result has ", result.q_size(),
+                                                   " arc lengths but the mesh has ",
+                                                   mesh.num_arcs(), " arcs"));
+  }
+  return std::vector<int64_t>(result.q().begin(), result.q().end());
+}
+
+}  // namespace ispq
