@@ -16,6 +16,7 @@ namespace ispq {
 struct LinearTerm {
   int32_t var;  // an arc id, or a bundle id once rows are expressed on bundles
   int32_t coef;
+  friend bool operator==(const LinearTerm&, const LinearTerm&) = default;
 };
 
 struct ConsistencyRowInfo {

@@ -33,6 +33,8 @@ struct ValidationOptions {
 struct ValidationReport {
   std::vector<ConsistencyViolation> consistency;
   std::vector<SimpleRow> simple;  // violated simple rows (negative extents, collapsed links...)
+  // Left-hand side of each violated simple row at q (parallel to `simple`).
+  std::vector<int64_t> simple_values;
   // Filled only when q is consistent and satisfies the simple rows (the search needs both).
   std::vector<SeparationViolation> separation;
   bool separation_checked = false;

@@ -40,6 +40,10 @@ struct SeparationViolation {
   std::vector<HalfarcId> path;  // halfarcs walked after leaving the start entity
   SeparationRow default_row;    // coefficients in {-1, +1}, rhs 1
   SeparationRow failsafe_row;   // coefficients +1 only, rhs 1
+  // Whether start_entity is a critical node or a link, and the node the search started from
+  // (the critical node, or the link's first node), so that reports can name them.
+  EntityDim start_dim = EntityDim::kNode;
+  NodeId start_node = kNoId;
 };
 
 class SeparationSearch {
@@ -51,6 +55,8 @@ class SeparationSearch {
 
   // Runs every start configuration (critical nodes by id, then links) on q, which must be
   // consistent; at most one violation per start configuration, in that order. Deterministic.
+  // q.size() must be the mesh's number of arcs (a mismatch aborts: it is a caller bug). The
+  // mesh must outlive this object.
   std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
 
  private:

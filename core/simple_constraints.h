@@ -19,7 +19,7 @@ enum class SimpleRowKind : uint8_t { kArcLowerBound, kLink, kRegion, kBlockExten
 struct SimpleRow {
   SimpleRowKind kind;
   int32_t element;  // arc id, entity id (link or region), or block id
-  int axis;         // block extent rows only
+  int axis;         // block extent rows only (0..2); -1 for the other kinds
   SeparationRow row;
 };
 

@@ -1,0 +1,58 @@
+// Integer positions of the nodes on every block's boundary (shared/separation.md section 1.4).
+//
+// For a consistent integer quantization q, every node n on the boundary of block b has a
+// well-defined position P_b(n) in b's frame, with b's (-,-,-) corner at the origin: the sum of
+// q along any chain of b's boundary arcs from that corner. The separation search needs these
+// positions constantly (block boxes, patch boxes), so each (block, boundary node) pair gets a
+// dense "slot" index once per mesh, and a call fills one position per slot by walking a
+// precomputed spanning tree of each block's boundary: O(sum of block boundary sizes), no search.
+#ifndef ISPQ_CORE_BLOCK_NODE_POSITIONS_H_
+#define ISPQ_CORE_BLOCK_NODE_POSITIONS_H_
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/integer_box.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+using SlotId = int32_t;
+
+class BlockNodeSlots {
+ public:
+  explicit BlockNodeSlots(const TMesh& mesh);
+
+  int num_slots() const { return static_cast<int>(slot_node_.size()); }
+  BlockId block_of(SlotId s) const { return slot_block_[s]; }
+  NodeId node_of(SlotId s) const { return slot_node_[s]; }
+  // Slot of node n on block b, or kNoId if n is not on b's boundary (binary search).
+  SlotId Find(BlockId b, NodeId n) const;
+  // Slot of the corner with the given corner code (core/direction.h) of block b.
+  SlotId corner_slot(BlockId b, int corner) const { return corner_slots_[b][corner]; }
+
+  // positions[s] = P_b(n) for slot s = (b, n). positions.size() must be num_slots(). When q is
+  // not consistent the result depends on the spanning tree and means nothing.
+  void ComputePositions(std::span<const int64_t> q, std::span<IntVec3> positions) const;
+
+ private:
+  // One edge of a block's spanning tree: P[slot] = P[parent] + q[arc] * direction.
+  struct TreeStep {
+    SlotId slot;
+    SlotId parent;
+    ArcId arc;
+    Dir dir;
+  };
+
+  std::vector<SlotId> block_first_slot_;  // num_blocks + 1 entries
+  std::vector<BlockId> slot_block_;
+  std::vector<NodeId> slot_node_;
+  std::vector<std::array<SlotId, kNumCorners>> corner_slots_;
+  std::vector<SlotId> roots_;  // slots whose position is the origin (each block's (-,-,-) corner)
+  std::vector<TreeStep> tree_steps_;  // parents always precede their children
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_BLOCK_NODE_POSITIONS_H_

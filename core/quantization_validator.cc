@@ -1,0 +1,104 @@
+#include "core/quantization_validator.h"
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "core/consistency_matrix.h"
+
+namespace ispq {
+namespace {
+
+const char* AxisName(int axis) {
+  static const char* const kNames[] = {"u", "v", "w"};
+  return axis >= 0 && axis < 3 ? kNames[axis] : "?";
+}
+
+const char* TargetName(SeparationTargetKind kind) {
+  switch (kind) {
+    case SeparationTargetKind::kNode:
+      return "node";
+    case SeparationTargetKind::kArc:
+      return "arc";
+    case SeparationTargetKind::kPatch:
+      return "patch";
+  }
+  return "?";
+}
+
+std::string DescribeSimple(const SimpleRow& row, int64_t value) {
+  switch (row.kind) {
+    case SimpleRowKind::kArcLowerBound:
+      return absl::StrCat("arc ", row.element, " has length ", value, " below the lower bound ",
+                          row.row.rhs);
+    case SimpleRowKind::kLink:
+      return absl::StrCat("link (entity ", row.element, ") has length ", value);
+    case SimpleRowKind::kRegion:
+      return absl::StrCat("region (entity ", row.element, ") has total arc length ", value);
+    case SimpleRowKind::kBlockExtent:
+      return absl::StrCat("block ", row.element, " has negative extent ", value, " along ",
+                          AxisName(row.axis));
+  }
+  return "unknown simple row";
+}
+
+std::string DescribeSeparation(const SeparationViolation& v) {
+  const std::string start =
+      v.start_dim == EntityDim::kNode
+          ? absl::StrCat("critical node ", v.start_node)
+          : absl::StrCat("link (entity ", v.start_entity, ", sector ", v.sector, ")");
+  return absl::StrCat(start, " touches ", TargetName(v.target_kind), " ", v.target, " (path ",
+                      v.path.size(), " halfarcs)");
+}
+
+}  // namespace
+
+std::string ValidationReport::Describe(int max_lines) const {
+  std::vector<std::string> lines;
+  for (const ConsistencyViolation& c : consistency) {
+    lines.push_back(absl::StrCat("patch ", c.patch, " axis ", AxisName(c.axis),
+                                 ": sides differ by ", c.difference));
+  }
+  for (size_t i = 0; i < simple.size(); ++i) {
+    lines.push_back(DescribeSimple(simple[i], i < simple_values.size() ? simple_values[i] : 0));
+  }
+  for (const SeparationViolation& v : separation) lines.push_back(DescribeSeparation(v));
+
+  std::string text;
+  if (max_lines <= 0) return text;
+  const size_t total = lines.size();
+  const size_t shown = total <= static_cast<size_t>(max_lines) ? total : max_lines - 1;
+  for (size_t i = 0; i < shown; ++i) absl::StrAppend(&text, lines[i], "\n");
+  if (shown < total) absl::StrAppend(&text, "... and ", total - shown, " more problems\n");
+  return text;
+}
+
+absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::span<const int64_t> q,
+                                                      const ValidationOptions& options) {
+  if (static_cast<int64_t>(q.size()) != mesh.num_arcs()) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the quantization has ", q.size(), " entries but the mesh has ", mesh.num_arcs(), " arcs"));
+  }
+  ValidationReport report;
+  const ConsistencyMatrix consistency(mesh);
+  for (int r = 0; r < consistency.num_rows(); ++r) {
+    const int64_t difference = consistency.RowValue(r, q);
+    if (difference != 0) {
+      report.consistency.push_back(
+          {consistency.row_info(r).patch, consistency.row_info(r).axis, difference});
+    }
+  }
+  for (SimpleRow& row : BuildSimpleRows(mesh, options.per_arc_lower_bound)) {
+    const int64_t value = row.row.Evaluate(q);
+    if (value >= row.row.rhs) continue;
+    report.simple.push_back(std::move(row));
+    report.simple_values.push_back(value);
+  }
+  // The search assumes well-defined integer positions and a non-degenerate start box.
+  if (report.consistency.empty() && report.simple.empty()) {
+    SeparationSearch search(mesh, options.search);
+    report.separation = search.FindViolations(q);
+    report.separation_checked = true;
+  }
+  return report;
+}
+
+}  // namespace ispq

@@ -1,0 +1,629 @@
+#include "core/separation_search.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <utility>
+
+#include "core/block_node_positions.h"
+#include "core/flat_lists.h"
+#include "core/halfarc_neighborhood.h"
+#include "core/integer_box.h"
+#include "core/rotation_tables.h"
+#include "core/separation_start_configurations.h"
+#include "core/stamped_set.h"
+
+namespace ispq {
+namespace {
+
+// A block around a halfarc (in the radial order around it), the halfarc's direction in the
+// block's frame and the block's slot of the halfarc's head.
+struct HalfarcInBlock {
+  BlockId block;
+  Dir dir;
+  SlotId head_slot;
+};
+
+// A halfpatch side owned by a slot's block that passes through the slot's node, and the slot of
+// the same node in the block across it (kNoId on the boundary). The fan crosses these.
+struct FanCrossing {
+  HalfpatchId side;
+  SlotId neighbor_slot;
+};
+
+// A side of a critical patch at a node that has a block: the block's slot of the node and the
+// patch normal's axis in the block's frame (violation test (c)).
+struct CriticalSide {
+  HalfpatchId side;
+  SlotId slot;
+  int normal_axis;
+};
+
+// One walk, stored once in an arena; its path is recovered through the parent links.
+struct Walk {
+  IntVec3 x;       // position of `node` relative to the start node, in the reference frame
+  double cost;     // target length walked off the link axis
+  int32_t parent;  // arena index, -1 for the start
+  HalfarcId step;  // the halfarc that led here, kNoId for the start
+  NodeId node;
+  SlotId slot;       // (block used for the last step, node)
+  int32_t k;         // number of halfarcs walked after branching
+  uint8_t rotation;  // index of M: reference frame -> frame of the slot's block
+  DirSet walked;     // W
+  DirSet monotone;   // M
+  Dir step_dir;      // direction of `step` in the reference frame
+  bool branched;
+  // Branched and already past the start box along the monotone direction by more than negative
+  // arcs could ever bring back: neither this walk nor any walk extending it can report.
+  bool hopeless;
+};
+
+struct QueueEntry {
+  double cost;
+  int32_t k;
+  uint32_t order;  // insertion counter: deterministic ties
+  int32_t walk;
+};
+
+// Heap order: the entry with the smallest (cost, k, order) is on top.
+struct PopsLater {
+  bool operator()(const QueueEntry& a, const QueueEntry& b) const {
+    if (a.cost != b.cost) return a.cost > b.cost;
+    if (a.k != b.k) return a.k > b.k;
+    return a.order > b.order;
+  }
+};
+
+// A candidate halfarc at the current node and its blocks in the fan (a range of fan_entries_).
+struct Candidate {
+  HalfarcId halfarc;
+  int32_t begin;
+  int32_t end;
+};
+
+// Adds coef * q_arc to a row, merging with an existing term of the same arc.
+void AddTerm(std::vector<LinearTerm>& terms, ArcId arc, int32_t coef) {
+  for (LinearTerm& t : terms) {
+    if (t.var == arc) {
+      t.coef += coef;
+      return;
+    }
+  }
+  terms.push_back({arc, coef});
+}
+
+void DropZeroTerms(std::vector<LinearTerm>& terms) {
+  terms.erase(
+      std::remove_if(terms.begin(), terms.end(), [](const LinearTerm& t) { return t.coef == 0; }),
+      terms.end());
+}
+
+}  // namespace
+
+class SeparationSearch::Impl {
+ public:
+  Impl(const TMesh& mesh, SeparationSearchOptions options);
+
+  std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
+
+ private:
+  // Per-call state that depends on q only.
+  void ComputeGeometry(std::span<const int64_t> q);
+  IntBox StartBox(int config, std::span<const int64_t> q) const;
+
+  // One search (separation.md section 3.4); true and `violation` filled on the first hit.
+  bool Search(int config, std::span<const int64_t> q, SeparationViolation& violation);
+  void Push(const Walk& walk);
+  void BuildFan(const Walk& walk, bool at_start_box);
+  void BuildCandidates(const Walk& walk);
+  bool FindViolationDirs(const Walk& walk, bool at_start_box, std::span<const int64_t> q,
+                         DirSet& dirs, SeparationTargetKind& kind, int32_t& target) const;
+  void Expand(int32_t walk_index, bool at_start_box, std::span<const int64_t> q);
+  bool Admissible(const Walk& walk, bool at_start_box, BlockId block);
+  // Touches(box_, other) for the current search, whose start box is never inverted.
+  bool TouchesStartBox(const IntBox& other) const {
+    return !IsInverted(other) && Overlap(box_, other);
+  }
+  IntBox PatchBox(const Walk& walk, HalfpatchId side, SlotId slot, uint8_t to_reference) const;
+  void BuildViolation(int config, int32_t walk_index, DirSet dirs, SeparationTargetKind kind,
+                      int32_t target, SeparationViolation& violation);
+
+  const TMesh& mesh_;
+  const SeparationSearchOptions options_;
+  const RotationTables& rotations_;
+  const BlockNodeSlots slots_;
+  const SeparationStartConfigurations configs_;
+  std::vector<SlotId> config_start_slot_;
+
+  // Mesh tables (section 6.2).
+  FlatLists<HalfarcId> sorted_outgoing_;      // per node, ascending halfarc id
+  FlatLists<HalfarcInBlock> halfarc_blocks_;  // per halfarc, radial order
+  FlatLists<FanCrossing> fan_crossings_;      // per slot, in the block's halfpatch order
+  FlatLists<CriticalSide> critical_sides_;    // per node, ascending incident halfpatch
+  FlatLists<SlotId> side_slots_;              // per halfpatch: its owner's slots of its cycle
+  std::vector<uint8_t> crossing_rotation_;    // per halfpatch: Rot(g) as a rotation index
+
+  // Geometry of the current q (section 6.3).
+  std::vector<IntVec3> positions_;  // per slot
+  std::vector<IntBox> side_boxes_;  // per owned halfpatch side, in the owner's frame
+
+  // Scratch of the current search.
+  IntBox box_{};
+  DirSet link_axis_ = 0;
+  std::vector<Walk> arena_;
+  std::vector<QueueEntry> queue_;
+  uint32_t pushes_ = 0;
+  int hopeful_in_queue_ = 0;         // queued walks that are not hopeless
+  int64_t negative_slack_ = 0;       // sum of -q_a over the arcs with q_a < 0
+  StampedSet seen_pre_, seen_post_;  // over nodes
+  StampedSet branch_offs_;           // over halfarcs
+  StampedSet pre_branch_arcs_;       // over arcs
+  // Scratch of the current pop: the fan over blocks and the candidates.
+  StampedSet in_fan_;
+  std::vector<uint8_t> fan_rotation_;      // M_b
+  std::vector<uint8_t> fan_to_reference_;  // M_b^-1
+  std::vector<SlotId> fan_slot_;           // (b, current node)
+  std::vector<int8_t> fan_admissible_;     // -1 not evaluated yet at this node, else 0 or 1
+  std::vector<BlockId> fan_order_;
+  std::vector<Candidate> candidates_;
+  std::vector<int32_t> fan_entries_;  // indices into halfarc_blocks_.all_values()
+  std::array<std::vector<ArcId>, kNumDirs> walked_arcs_;  // L[d] while building rows
+};
+
+SeparationSearch::Impl::Impl(const TMesh& mesh, SeparationSearchOptions options)
+    : mesh_(mesh),
+      options_(options),
+      rotations_(RotationTables::Get()),
+      slots_(mesh),
+      configs_(mesh) {
+  for (int i = 0; i < configs_.size(); ++i) {
+    config_start_slot_.push_back(slots_.Find(configs_[i].start_block, configs_[i].start_node));
+  }
+  std::vector<HalfarcId> outgoing;
+  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
+    outgoing.assign(mesh.outgoing_halfarcs(n).begin(), mesh.outgoing_halfarcs(n).end());
+    std::sort(outgoing.begin(), outgoing.end());
+    sorted_outgoing_.Append(outgoing);
+  }
+  for (HalfarcId h = 0; h < mesh.num_halfarcs(); ++h) {
+    halfarc_blocks_.OpenList();
+    for (BlockId b : BlocksAroundHalfarc(mesh, h)) {
+      halfarc_blocks_.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots_.Find(b, mesh.head(h))});
+    }
+  }
+  for (SlotId s = 0; s < slots_.num_slots(); ++s) {
+    const BlockId b = slots_.block_of(s);
+    const NodeId n = slots_.node_of(s);
+    const std::span<const HalfpatchId> at_node = mesh.node_halfpatches(n);
+    fan_crossings_.OpenList();
+    for (HalfpatchId side : mesh.block_halfpatches(b)) {
+      if (!std::binary_search(at_node.begin(), at_node.end(), side)) continue;
+      const BlockId across = mesh.halfpatch_block(side ^ 1);
+      fan_crossings_.PushToLast({side, across == kNoId ? kNoId : slots_.Find(across, n)});
+    }
+  }
+  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
+    critical_sides_.OpenList();
+    for (HalfpatchId g : mesh.node_halfpatches(n)) {
+      const PatchId p = PatchOf(g);
+      const HalfpatchId side = g ^ 1;  // the reference tests the side across each halfpatch
+      const BlockId b = mesh.halfpatch_block(side);
+      if (!mesh.patch_critical(p) || b == kNoId) continue;
+      critical_sides_.PushToLast(
+          {side, slots_.Find(b, n), AxisOf(mesh.patch_face_side(p, SideOf(side)))});
+    }
+  }
+  for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
+    crossing_rotation_.push_back(static_cast<uint8_t>(mesh.crossing_rotation(hp).index()));
+    side_slots_.OpenList();
+    const BlockId b = mesh.halfpatch_block(hp);
+    if (b == kNoId) continue;
+    for (int i = 0; i < mesh.halfpatch_cycle_size(hp); ++i) {
+      side_slots_.PushToLast(slots_.Find(b, mesh.tail(mesh.HalfpatchCycleAt(hp, i))));
+    }
+  }
+
+  positions_.resize(slots_.num_slots());
+  side_boxes_.resize(mesh.num_halfpatches());
+  seen_pre_.Resize(mesh.num_nodes());
+  seen_post_.Resize(mesh.num_nodes());
+  branch_offs_.Resize(mesh.num_halfarcs());
+  pre_branch_arcs_.Resize(mesh.num_arcs());
+  in_fan_.Resize(mesh.num_blocks());
+  fan_rotation_.resize(mesh.num_blocks());
+  fan_to_reference_.resize(mesh.num_blocks());
+  fan_slot_.resize(mesh.num_blocks());
+  fan_admissible_.resize(mesh.num_blocks());
+}
+
+void SeparationSearch::Impl::ComputeGeometry(std::span<const int64_t> q) {
+  slots_.ComputePositions(q, positions_);
+  for (HalfpatchId hp = 0; hp < mesh_.num_halfpatches(); ++hp) {
+    const std::span<const SlotId> cycle = side_slots_[hp];
+    if (cycle.empty()) continue;
+    IntBox box = PointBox(positions_[cycle.front()]);
+    for (SlotId s : cycle) {
+      const IntVec3& p = positions_[s];
+      for (int i = 0; i < 3; ++i) {
+        box.lo[i] = std::min(box.lo[i], p[i]);
+        box.hi[i] = std::max(box.hi[i], p[i]);
+      }
+    }
+    side_boxes_[hp] = box;
+  }
+}
+
+// Node starts: the start point. Link starts: the segment from 0 to L * e with L the link's
+// quantized length, bounds taken by the sign of e as in the reference (a negative L inverts the
+// box, so nothing touches it); unbounded along e's axis for a cyclic link.
+IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) const {
+  IntBox box = PointBox({0, 0, 0});
+  const SeparationStartConfiguration& c = configs_[config];
+  if (!c.is_link) return box;
+  int64_t length = 0;
+  for (HalfarcId h : mesh_.entity_halfarcs(c.entity)) length += q[ArcOf(h)];
+  const int axis = AxisOf(c.link_dir);
+  if (IsNegative(c.link_dir)) {
+    box.lo[axis] = -length;
+  } else {
+    box.hi[axis] = length;
+  }
+  if (c.cyclic_link) {
+    box.lo[axis] = std::numeric_limits<int64_t>::min();
+    box.hi[axis] = std::numeric_limits<int64_t>::max();
+  }
+  return box;
+}
+
+std::vector<SeparationViolation> SeparationSearch::Impl::FindViolations(
+    std::span<const int64_t> q) {
+  if (static_cast<int>(q.size()) != mesh_.num_arcs()) {
+    std::fprintf(stderr, "SeparationSearch::FindViolations: q has %zu entries for %d arcs\n",
+                 q.size(), mesh_.num_arcs());
+    std::abort();
+  }
+  ComputeGeometry(q);
+  negative_slack_ = 0;
+  for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
+  std::vector<SeparationViolation> violations;
+  SeparationViolation violation;
+  for (int config = 0; config < configs_.size(); ++config) {
+    if (Search(config, q, violation)) violations.push_back(std::move(violation));
+  }
+  return violations;
+}
+
+bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
+                                    SeparationViolation& violation) {
+  box_ = StartBox(config, q);
+  // A collapsed link (negative length, only while simple rows are violated) has an inverted
+  // start box that nothing touches: no block is admissible and nothing can be reported.
+  if (IsInverted(box_)) return false;
+  link_axis_ = configs_.link_axis(config);
+  seen_pre_.Clear();
+  seen_post_.Clear();
+  branch_offs_.Clear();
+  for (HalfarcId h : configs_.branch_offs(config)) branch_offs_.Insert(h);
+  pre_branch_arcs_.Clear();
+  for (ArcId a : configs_.pre_branch_arcs(config)) pre_branch_arcs_.Insert(a);
+  arena_.clear();
+  queue_.clear();
+  pushes_ = 0;
+  hopeful_in_queue_ = 0;
+
+  Walk start;
+  start.x = {0, 0, 0};
+  start.cost = 0;
+  start.parent = -1;
+  start.step = kNoId;
+  start.node = configs_[config].start_node;
+  start.slot = config_start_slot_[config];
+  start.k = 0;
+  start.rotation = 0;  // the identity: the start block's frame is the reference frame
+  start.walked = 0;
+  start.monotone = kAllDirBits & static_cast<DirSet>(~link_axis_);
+  start.step_dir = Dir::kPosU;
+  start.branched = false;
+  start.hopeless = false;
+  Push(start);
+
+  // Every later walk extends a queued one, so once all queued walks are hopeless the search
+  // cannot report anything and stops; this changes no result, only the work.
+  while (hopeful_in_queue_ > 0) {
+    std::pop_heap(queue_.begin(), queue_.end(), PopsLater());
+    const int32_t index = queue_.back().walk;
+    queue_.pop_back();
+    if (!arena_[index].hopeless) --hopeful_in_queue_;
+    StampedSet& seen = arena_[index].branched ? seen_post_ : seen_pre_;
+    if (seen.Contains(arena_[index].node)) continue;
+    seen.Insert(arena_[index].node);
+    const Walk walk = arena_[index];
+
+    // Every patch at the node contains the node, so while the walk's position lies in the start
+    // box every patch box touches it and the fan may cross every patch.
+    const bool at_start_box = TouchesStartBox(PointBox(walk.x));
+    BuildFan(walk, at_start_box);
+    BuildCandidates(walk);
+    if (walk.branched) {
+      DirSet dirs = 0;
+      SeparationTargetKind kind = SeparationTargetKind::kNode;
+      int32_t target = kNoId;
+      if (FindViolationDirs(walk, at_start_box, q, dirs, kind, target)) {
+        BuildViolation(config, index, dirs, kind, target, violation);
+        return true;
+      }
+    }
+    Expand(index, at_start_box, q);
+  }
+  return false;
+}
+
+void SeparationSearch::Impl::Push(const Walk& walk) {
+  if (!walk.hopeless) ++hopeful_in_queue_;
+  queue_.push_back({walk.cost, walk.k, pushes_++, static_cast<int32_t>(arena_.size())});
+  arena_.push_back(walk);
+  std::push_heap(queue_.begin(), queue_.end(), PopsLater());
+}
+
+IntBox SeparationSearch::Impl::PatchBox(const Walk& walk, HalfpatchId side, SlotId slot,
+                                        uint8_t to_reference) const {
+  const IntVec3& at = positions_[slot];
+  const IntBox& own = side_boxes_[side];
+  const IntBox local =
+      rotations_.Apply(to_reference, IntBox{Subtract(own.lo, at), Subtract(own.hi, at)});
+  return {Add(walk.x, local.lo), Add(walk.x, local.hi)};
+}
+
+// Section 3.5: breadth-first over the blocks around the node, crossing a patch only if its
+// rectangle touches the start box; each block keeps the rotation of its first route.
+void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
+  in_fan_.Clear();
+  fan_order_.clear();
+  const auto add = [this](BlockId b, uint8_t rotation, SlotId slot) {
+    in_fan_.Insert(b);
+    fan_rotation_[b] = rotation;
+    fan_to_reference_[b] = rotations_.Inverse(rotation);
+    fan_slot_[b] = slot;
+    fan_admissible_[b] = -1;
+    fan_order_.push_back(b);
+  };
+  add(slots_.block_of(walk.slot), walk.rotation, walk.slot);
+  for (size_t i = 0; i < fan_order_.size(); ++i) {
+    const BlockId b = fan_order_[i];
+    const SlotId slot = fan_slot_[b];
+    for (const FanCrossing& crossing : fan_crossings_[slot]) {
+      if (crossing.neighbor_slot == kNoId) continue;
+      const BlockId across = slots_.block_of(crossing.neighbor_slot);
+      if (in_fan_.Contains(across)) continue;
+      if (!at_start_box &&
+          !TouchesStartBox(PatchBox(walk, crossing.side, slot, fan_to_reference_[b]))) {
+        continue;
+      }
+      add(across, rotations_.After(crossing_rotation_[crossing.side], fan_rotation_[b]),
+          crossing.neighbor_slot);
+    }
+  }
+}
+
+// Outgoing halfarcs in ascending id, each with its blocks that are in the fan (radial order);
+// the reversal of the last recorded step is left out.
+void SeparationSearch::Impl::BuildCandidates(const Walk& walk) {
+  candidates_.clear();
+  fan_entries_.clear();
+  const HalfarcId reversal = walk.branched ? Twin(walk.step) : kNoId;
+  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
+  for (HalfarcId h : sorted_outgoing_[walk.node]) {
+    if (h == reversal) continue;
+    const int32_t begin = static_cast<int32_t>(fan_entries_.size());
+    const std::span<const HalfarcInBlock> entries = halfarc_blocks_[h];
+    const int32_t offset = static_cast<int32_t>(entries.data() - all_entries);
+    for (int32_t i = 0; i < static_cast<int32_t>(entries.size()); ++i) {
+      if (in_fan_.Contains(entries[i].block)) fan_entries_.push_back(offset + i);
+    }
+    const int32_t end = static_cast<int32_t>(fan_entries_.size());
+    if (end > begin) candidates_.push_back({h, begin, end});
+  }
+}
+
+// Section 3.7, tests (a) node, (b) arc, (c) patch, in that order.
+bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_box,
+                                               std::span<const int64_t> q, DirSet& dirs,
+                                               SeparationTargetKind& kind, int32_t& target) const {
+  const DirSet off_link = static_cast<DirSet>(~link_axis_);
+  if (mesh_.node_critical(walk.node) && at_start_box) {
+    dirs = walk.walked & off_link;
+    kind = SeparationTargetKind::kNode;
+    target = walk.node;
+    return true;
+  }
+
+  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
+  for (const Candidate& candidate : candidates_) {
+    const ArcId arc = ArcOf(candidate.halfarc);
+    if (!mesh_.arc_critical(arc)) continue;
+    // The arc's axis is read in the first of its blocks in the fan, as in the reference.
+    const HalfarcInBlock& entry = all_entries[fan_entries_[candidate.begin]];
+    Dir along = rotations_.Apply(fan_to_reference_[entry.block], entry.dir);
+    const DirSet approach = walk.walked & off_link & static_cast<DirSet>(~AxisBits(AxisOf(along)));
+    if ((approach & walk.monotone) == 0) continue;
+    int64_t length = q[arc];
+    if (length < 0) {
+      length = -length;
+      along = Opposite(along);
+    }
+    if (TouchesStartBox(SpannedBox(walk.x, AddAlong(walk.x, along, length)))) {
+      dirs = approach;
+      kind = SeparationTargetKind::kArc;
+      target = arc;
+      return true;
+    }
+  }
+
+  for (const CriticalSide& side : critical_sides_[walk.node]) {
+    const BlockId b = slots_.block_of(side.slot);
+    if (!in_fan_.Contains(b)) continue;
+    const uint8_t to_reference = fan_to_reference_[b];
+    const int normal = AxisOf(rotations_.Apply(to_reference, MakeDir(side.normal_axis, false)));
+    const DirSet approach = walk.walked & off_link & AxisBits(normal);
+    if ((approach & walk.monotone) == 0) continue;
+    if (at_start_box || TouchesStartBox(PatchBox(walk, side.side, side.slot, to_reference))) {
+      dirs = approach;
+      kind = SeparationTargetKind::kPatch;
+      target = PatchOf(side.side);
+      return true;
+    }
+  }
+  return false;
+}
+
+// Section 3.6: the block, placed in the reference frame with the walk's node at x, touches the
+// start box. The reference forms the interval from the (-,-,-) and (+,+,+) corners without
+// sorting and rejects it when inverted. The answer depends on the block and the node only, so it
+// is computed once per block and pop.
+bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, BlockId block) {
+  if (fan_admissible_[block] >= 0) return fan_admissible_[block] != 0;
+  // Without negative arcs every boundary node lies in its block's sorted box, so that box
+  // contains the walk's position.
+  if (at_start_box && negative_slack_ == 0 && options_.block_box == BlockBoxMode::kSorted) {
+    fan_admissible_[block] = 1;
+    return true;
+  }
+  const uint8_t to_reference = fan_to_reference_[block];
+  const IntVec3& at = positions_[fan_slot_[block]];
+  const IntVec3 low = Add(
+      walk.x, rotations_.Apply(to_reference,
+                               Subtract(positions_[slots_.corner_slot(block, kMinCorner)], at)));
+  const IntVec3 high = Add(
+      walk.x, rotations_.Apply(to_reference,
+                               Subtract(positions_[slots_.corner_slot(block, kMaxCorner)], at)));
+  const IntBox block_box =
+      options_.block_box == BlockBoxMode::kSorted ? SpannedBox(low, high) : IntBox{low, high};
+  const bool admissible = TouchesStartBox(block_box);
+  fan_admissible_[block] = admissible ? 1 : 0;
+  return admissible;
+}
+
+// Section 3.9: at most one successor per candidate halfarc, through the first block (in radial
+// order) that is admissible and gives an allowed step.
+void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
+                                    std::span<const int64_t> q) {
+  const Walk walk = arena_[walk_index];
+  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
+  for (const Candidate& candidate : candidates_) {
+    const HalfarcId h = candidate.halfarc;
+    const ArcId arc = ArcOf(h);
+    const NodeId head = mesh_.head(h);
+    if (walk.branched && seen_post_.Contains(head)) continue;
+    for (int32_t i = candidate.begin; i < candidate.end; ++i) {
+      const HalfarcInBlock& entry = all_entries[fan_entries_[i]];
+      if (!Admissible(walk, at_start_box, entry.block)) continue;
+      const Dir dir = rotations_.Apply(fan_to_reference_[entry.block], entry.dir);
+      const DirSet dir_bit = DirBit(dir);
+      const bool along_link = (dir_bit & link_axis_) != 0;
+      Walk next = walk;
+      if (!walk.branched && !along_link) {
+        // A pre-branch arc seen across the link axis means this block's rotation is not the
+        // one the link was set up with; another block of the same halfarc may fit.
+        if (pre_branch_arcs_.Contains(arc)) continue;
+        if (!branch_offs_.Contains(h)) continue;
+        next.branched = true;
+        next.monotone &= dir_bit;
+      }
+      if (next.branched) ++next.k;
+      next.x = AddAlong(walk.x, dir, q[arc]);
+      next.walked |= dir_bit;
+      next.monotone &= static_cast<DirSet>(~DirBit(Opposite(dir)));
+      if (next.monotone == 0) continue;  // walked against the monotone direction
+      // A walk whose node is settled in its phase would be dropped when popped.
+      if ((next.branched ? seen_post_ : seen_pre_).Contains(head)) break;
+      if (!along_link) next.cost += mesh_.arc_length(arc);
+      next.parent = walk_index;
+      next.step = h;
+      next.node = head;
+      next.slot = entry.head_slot;
+      next.rotation = fan_rotation_[entry.block];
+      next.step_dir = dir;
+      if (next.branched) {
+        // After branching M is exactly the monotone direction d. Every violation test needs
+        // zero displacement along d's axis (section 3.7), steps against d are never taken, and
+        // steps along d only move back through negative arcs, each at most once.
+        const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
+        const int64_t ahead =
+            IsNegative(monotone) ? -next.x[AxisOf(monotone)] : next.x[AxisOf(monotone)];
+        next.hopeless = ahead > negative_slack_;
+      }
+      Push(next);
+      break;
+    }
+  }
+}
+
+// Section 3.8: one-way axes contribute their arcs with +1 to both rows; an axis walked both ways
+// contributes its signed net displacement to the default row, the side longer in target length
+// positive (ties: the negative direction's arcs positive).
+void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirSet dirs,
+                                            SeparationTargetKind kind, int32_t target,
+                                            SeparationViolation& violation) {
+  const SeparationStartConfiguration& c = configs_[config];
+  violation.start_entity = c.entity;
+  violation.sector = c.sector;
+  violation.start_dim = c.is_link ? EntityDim::kLink : EntityDim::kNode;
+  violation.start_node = c.start_node;
+  violation.target_kind = kind;
+  violation.target = target;
+
+  violation.path.clear();
+  for (std::vector<ArcId>& arcs : walked_arcs_) arcs.clear();
+  for (int32_t i = walk_index; arena_[i].parent >= 0; i = arena_[i].parent) {
+    const Walk& w = arena_[i];
+    if (w.branched) violation.path.push_back(w.step);
+    walked_arcs_[DirIndex(w.step_dir)].push_back(ArcOf(w.step));
+  }
+  std::reverse(violation.path.begin(), violation.path.end());
+  for (std::vector<ArcId>& arcs : walked_arcs_) std::reverse(arcs.begin(), arcs.end());
+
+  const auto target_length = [this](const std::vector<ArcId>& arcs) {
+    double sum = 0;
+    for (ArcId a : arcs) sum += mesh_.arc_length(a);
+    return sum;
+  };
+  std::vector<ArcId> positive, negative, one_way;
+  for (int axis = 0; axis < 3; ++axis) {
+    const DirSet on_axis = dirs & AxisBits(axis);
+    if (on_axis == 0) continue;
+    if (on_axis == AxisBits(axis)) {
+      const std::vector<ArcId>& plus = walked_arcs_[DirIndex(MakeDir(axis, false))];
+      const std::vector<ArcId>& minus = walked_arcs_[DirIndex(MakeDir(axis, true))];
+      const bool plus_longer = target_length(plus) > target_length(minus);
+      const std::vector<ArcId>& up = plus_longer ? plus : minus;
+      const std::vector<ArcId>& down = plus_longer ? minus : plus;
+      positive.insert(positive.end(), up.begin(), up.end());
+      negative.insert(negative.end(), down.begin(), down.end());
+    } else {
+      const Dir d = MakeDir(axis, (on_axis & DirBit(MakeDir(axis, false))) == 0);
+      const std::vector<ArcId>& arcs = walked_arcs_[DirIndex(d)];
+      positive.insert(positive.end(), arcs.begin(), arcs.end());
+      one_way.insert(one_way.end(), arcs.begin(), arcs.end());
+    }
+  }
+  violation.default_row = SeparationRow{};
+  violation.failsafe_row = SeparationRow{};
+  for (ArcId a : positive) AddTerm(violation.default_row.terms, a, +1);
+  for (ArcId a : negative) AddTerm(violation.default_row.terms, a, -1);
+  for (ArcId a : one_way) AddTerm(violation.failsafe_row.terms, a, +1);
+  DropZeroTerms(violation.default_row.terms);
+  DropZeroTerms(violation.failsafe_row.terms);
+}
+
+SeparationSearch::SeparationSearch(const TMesh& mesh, SeparationSearchOptions options)
+    : impl_(std::make_unique<Impl>(mesh, options)) {}
+SeparationSearch::~SeparationSearch() = default;
+SeparationSearch::SeparationSearch(SeparationSearch&&) noexcept = default;
+SeparationSearch& SeparationSearch::operator=(SeparationSearch&&) noexcept = default;
+
+std::vector<SeparationViolation> SeparationSearch::FindViolations(std::span<const int64_t> q) {
+  return impl_->FindViolations(q);
+}
+
+}  // namespace ispq

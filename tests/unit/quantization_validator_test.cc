@@ -1,0 +1,195 @@
+#include "core/quantization_validator.h"
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/support/consistent_quantizations.h"
+#include "tests/support/grid_tmesh_builder.h"
+#include "tests/support/test_data.h"
+
+namespace ispq {
+namespace {
+
+using ::ispq::testing::BundledSample;
+using ::ispq::testing::ConsistentQuantizations;
+using ::ispq::testing::LoadTMeshOrDie;
+using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::ShortName;
+using ::testing::HasSubstr;
+
+// The cube with the given extents along u, v, w (every edge a single arc).
+std::vector<int64_t> CubeQ(const TMesh& cube, int64_t u, int64_t v, int64_t w) {
+  std::vector<int64_t> q(cube.num_arcs());
+  const int64_t extent[3] = {u, v, w};
+  for (int edge = 0; edge < kNumEdges; ++edge) {
+    for (ArcId a : cube.block_edge_arcs(0, edge)) q[a] = extent[EdgeAxis(edge)];
+  }
+  return q;
+}
+
+int CountLines(const std::string& text) {
+  return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+}
+
+TEST(QuantizationValidatorTest, RejectsAWrongSize) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const absl::StatusOr<ValidationReport> report =
+      ValidateQuantization(cube, std::vector<int64_t>(11, 1));
+  EXPECT_EQ(report.status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST(QuantizationValidatorTest, ValidCube) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(cube, CubeQ(cube, 1, 2, 3));
+  ASSERT_TRUE(report.ok()) << report.status();
+  EXPECT_TRUE(report->valid());
+  EXPECT_TRUE(report->separation_checked);
+  EXPECT_EQ(report->Describe(), "");
+}
+
+TEST(QuantizationValidatorTest, InconsistentCube) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  std::vector<int64_t> q = CubeQ(cube, 1, 1, 1);
+  const ArcId a = cube.block_edge_arcs(0, EdgeCode(1, false, false))[0];  // a v-edge
+  q[a] = 3;
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(cube, q);
+  ASSERT_TRUE(report.ok());
+  EXPECT_FALSE(report->consistent());
+  EXPECT_FALSE(report->separation_checked);
+  EXPECT_FALSE(report->valid());
+  // The two faces containing the edge disagree along v by 2.
+  ASSERT_EQ(report->consistency.size(), 2u);
+  for (const ConsistencyViolation& c : report->consistency) {
+    EXPECT_EQ(c.axis, 1);
+    EXPECT_EQ(std::abs(c.difference), 2);
+    const std::span<const HalfpatchId> around = cube.arc_halfpatches(a);
+    EXPECT_TRUE(std::any_of(around.begin(), around.end(),
+                            [&](HalfpatchId hp) { return PatchOf(hp) == c.patch; }));
+  }
+  const std::string text = report->Describe();
+  EXPECT_EQ(CountLines(text), 2);
+  EXPECT_THAT(text, HasSubstr(absl::StrCat("patch ", report->consistency[0].patch,
+                                           " axis v: sides differ by ")));
+}
+
+TEST(QuantizationValidatorTest, CollapsedAndNegativeCube) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  {
+    const absl::StatusOr<ValidationReport> report =
+        ValidateQuantization(cube, CubeQ(cube, 0, 1, 1));
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE(report->consistent());
+    EXPECT_FALSE(report->separation_checked);
+    ASSERT_EQ(report->simple.size(), 4u);  // the four u-edge links
+    for (size_t i = 0; i < report->simple.size(); ++i) {
+      EXPECT_EQ(report->simple[i].kind, SimpleRowKind::kLink);
+      EXPECT_EQ(report->simple_values[i], 0);
+    }
+    EXPECT_THAT(
+        report->Describe(),
+        HasSubstr(absl::StrCat("link (entity ", report->simple[0].element, ") has length 0")));
+  }
+  {
+    ValidationOptions options;
+    options.per_arc_lower_bound = 0;
+    const absl::StatusOr<ValidationReport> report =
+        ValidateQuantization(cube, CubeQ(cube, 1, -1, 1), options);
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE(report->consistent());
+    // 4 arc bounds, 4 links, the 4 faces along v (their arcs sum to 0) and the block's v extent.
+    const std::string text = report->Describe(100);
+    EXPECT_THAT(text, HasSubstr("block 0 has negative extent -1 along v"));
+    EXPECT_THAT(text, HasSubstr("below the lower bound 0"));
+    int blocks = 0, bounds = 0;
+    for (const SimpleRow& r : report->simple) {
+      blocks += r.kind == SimpleRowKind::kBlockExtent;
+      bounds += r.kind == SimpleRowKind::kArcLowerBound;
+    }
+    EXPECT_EQ(blocks, 1);
+    EXPECT_EQ(bounds, 4);
+    EXPECT_EQ(CountLines(text), static_cast<int>(report->simple.size()));
+    // At most max_lines lines, the last one counting the rest.
+    const std::string short_text = report->Describe(3);
+    EXPECT_EQ(CountLines(short_text), 3);
+    EXPECT_THAT(short_text,
+                HasSubstr(absl::StrCat("... and ", report->simple.size() - 2, " more problems")));
+  }
+}
+
+// T6's feature node on the bottom boundary: consistent, simple rows hold, one violation.
+TEST(QuantizationValidatorTest, SeparationViolation) {
+  testing::GridTMeshSpec spec;
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) spec.blocks.push_back({{i, j, k}, {i + 1, j + 1, k + 1}});
+    }
+  }
+  spec.feature_nodes = {{1, 1, 1}};
+  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(spec);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  std::vector<int64_t> q;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    const auto& [from, to] = grid->arc_ends(a);
+    q.push_back(from[2] == to[2] || from[2] == 1 ? 1 : 0);  // the bottom layer is flat
+  }
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, q);
+  ASSERT_TRUE(report.ok());
+  EXPECT_TRUE(report->consistent());
+  EXPECT_TRUE(report->simple.empty());
+  EXPECT_TRUE(report->separation_checked);
+  ASSERT_EQ(report->separation.size(), 1u);
+  EXPECT_FALSE(report->valid());
+  const SeparationViolation& v = report->separation[0];
+  EXPECT_EQ(v.start_node, grid->NodeAt({1, 1, 1}));
+  EXPECT_EQ(report->Describe(), absl::StrCat("critical node ", v.start_node, " touches patch ",
+                                             v.target, " (path 1 halfarcs)\n"));
+}
+
+// On every shared mesh: q = 0 collapses every link and region (the search is not run); a
+// consistent q with every arc positive passes consistency and the simple rows, and every
+// separation violation reported for it is violated by it.
+TEST(QuantizationValidatorTest, SharedMeshes) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (const std::string& file : files) {
+    SCOPED_TRACE(ShortName(file));
+    const TMesh mesh = LoadTMeshOrDie(file);
+    int links_and_regions = 0;
+    for (EntityId e = 0; e < mesh.num_entities(); ++e) {
+      links_and_regions += mesh.entity_dim(e) != EntityDim::kNode;
+    }
+    const absl::StatusOr<ValidationReport> zero =
+        ValidateQuantization(mesh, std::vector<int64_t>(mesh.num_arcs(), 0));
+    ASSERT_TRUE(zero.ok());
+    EXPECT_TRUE(zero->consistent());
+    EXPECT_EQ(static_cast<int>(zero->simple.size()), links_and_regions);
+    EXPECT_FALSE(zero->separation_checked);
+    EXPECT_EQ(CountLines(zero->Describe(5)), 5);
+
+    const ConsistentQuantizations quantizations(mesh);
+    std::vector<int64_t> q;
+    for (double scale = 1.0;; scale *= 2) {
+      q = quantizations.NearTargets(scale);
+      if (*std::min_element(q.begin(), q.end()) >= 1) break;
+    }
+    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, q);
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE(report->consistent());
+    EXPECT_TRUE(report->simple.empty());
+    EXPECT_TRUE(report->separation_checked);
+    for (const SeparationViolation& v : report->separation) {
+      EXPECT_FALSE(v.default_row.IsSatisfiedBy(q));
+      EXPECT_FALSE(v.failsafe_row.IsSatisfiedBy(q));
+    }
+    EXPECT_EQ(report->valid(), report->separation.empty());
+  }
+}
+
+}  // namespace
+}  // namespace ispq

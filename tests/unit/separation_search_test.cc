@@ -1,0 +1,269 @@
+// The separation search on the single cube (shared/separation.md section 7, T4), on every
+// shared T-mesh with consistent quantizations built by elimination (invariants that every
+// reported violation must satisfy, determinism T13, scale invariance), and its speed.
+#include "core/separation_search.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "gtest/gtest.h"
+#include "tests/support/consistent_quantizations.h"
+#include "tests/support/test_data.h"
+
+namespace ispq {
+namespace {
+
+using ::ispq::testing::BundledSample;
+using ::ispq::testing::ConsistentQuantizations;
+using ::ispq::testing::LoadTMeshOrDie;
+using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::ShortName;
+
+bool SameViolation(const SeparationViolation& a, const SeparationViolation& b) {
+  return a.start_entity == b.start_entity && a.sector == b.sector &&
+         a.target_kind == b.target_kind && a.target == b.target && a.path == b.path &&
+         a.default_row == b.default_row && a.failsafe_row == b.failsafe_row &&
+         a.start_dim == b.start_dim && a.start_node == b.start_node;
+}
+
+bool SameViolations(const std::vector<SeparationViolation>& a,
+                    const std::vector<SeparationViolation>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (!SameViolation(a[i], b[i])) return false;
+  }
+  return true;
+}
+
+std::vector<ArcId> CubeArcsAlong(const TMesh& cube, int axis) {
+  std::vector<ArcId> arcs;
+  for (int edge = 4 * axis; edge < 4 * axis + 4; ++edge) {
+    for (ArcId a : cube.block_edge_arcs(0, edge)) arcs.push_back(a);
+  }
+  return arcs;
+}
+
+TEST(SeparationSearchTest, UnitCubeHasNoViolations) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  SeparationSearch search(cube);
+  EXPECT_TRUE(search.FindViolations(std::vector<int64_t>(12, 1)).empty());
+  const std::vector<int64_t> larger = {3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3};
+  EXPECT_TRUE(search.FindViolations(larger).empty());
+}
+
+// T4: with one axis collapsed, 16 rows, each a single collapsed edge arc: 8 from the corners
+// (every collapsed edge twice) and one from each link along the two other axes.
+TEST(SeparationSearchTest, CubeWithOneCollapsedAxis) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  for (int axis = 0; axis < 3; ++axis) {
+    SCOPED_TRACE(axis);
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      SeparationSearch search(cube, {.block_box = mode});
+      std::vector<int64_t> q(12, 1);
+      const std::vector<ArcId> collapsed = CubeArcsAlong(cube, axis);
+      for (ArcId a : collapsed) q[a] = 0;
+      const std::vector<SeparationViolation> violations = search.FindViolations(q);
+      ASSERT_EQ(violations.size(), 16u);
+      std::vector<int> node_rows_per_arc(12, 0);
+      std::vector<EntityId> reporting_links;
+      for (const SeparationViolation& v : violations) {
+        ASSERT_EQ(v.default_row.terms.size(), 1u);
+        const ArcId a = v.default_row.terms[0].var;
+        EXPECT_EQ(v.default_row.terms[0].coef, 1);
+        EXPECT_EQ(v.default_row.rhs, 1);
+        EXPECT_EQ(v.failsafe_row, v.default_row);
+        EXPECT_NE(std::find(collapsed.begin(), collapsed.end(), a), collapsed.end());
+        EXPECT_EQ(v.target_kind, SeparationTargetKind::kNode);
+        EXPECT_EQ(v.start_dim, cube.entity_dim(v.start_entity));
+        if (v.start_dim == EntityDim::kNode) {
+          ++node_rows_per_arc[a];
+          // The corner's sector along its collapsed edge reaches the opposite corner.
+          EXPECT_EQ(v.path, std::vector<HalfarcId>{cube.outgoing_halfarcs(v.start_node)[v.sector]});
+          EXPECT_EQ(v.target, cube.head(v.path[0]));
+        } else {
+          const HalfarcId link_arc = cube.entity_halfarcs(v.start_entity)[0];
+          EXPECT_EQ(std::find(collapsed.begin(), collapsed.end(), ArcOf(link_arc)),
+                    collapsed.end());
+          reporting_links.push_back(v.start_entity);
+        }
+      }
+      for (ArcId a : collapsed) EXPECT_EQ(node_rows_per_arc[a], 2);
+      std::sort(reporting_links.begin(), reporting_links.end());
+      EXPECT_EQ(std::unique(reporting_links.begin(), reporting_links.end()), reporting_links.end());
+      EXPECT_EQ(reporting_links.size(), 8u);
+    }
+  }
+}
+
+// Properties every reported violation has, whatever the mesh and q: the path is a chain of
+// halfarcs leaving the start entity and ending at the target; every axis the rows speak about
+// has zero displacement at q, so q violates both rows, and both evaluate to exactly 0; the
+// default row has coefficients +-1 and the failsafe row is its all-positive part.
+void ExpectWellFormed(const TMesh& mesh, const SeparationViolation& v, std::span<const int64_t> q) {
+  ASSERT_FALSE(v.path.empty());
+  for (size_t i = 0; i + 1 < v.path.size(); ++i) {
+    ASSERT_EQ(mesh.head(v.path[i]), mesh.tail(v.path[i + 1]));
+  }
+  ASSERT_EQ(v.start_dim, mesh.entity_dim(v.start_entity));
+  ASSERT_EQ(v.start_node, mesh.entity_node_from(v.start_entity));
+  if (v.start_dim == EntityDim::kNode) {
+    EXPECT_EQ(v.path.front(), mesh.outgoing_halfarcs(v.start_node)[v.sector]);
+  }
+  const NodeId end = mesh.head(v.path.back());
+  switch (v.target_kind) {
+    case SeparationTargetKind::kNode:
+      EXPECT_EQ(v.target, end);
+      EXPECT_TRUE(mesh.node_critical(end));
+      break;
+    case SeparationTargetKind::kArc:
+      EXPECT_TRUE(mesh.arc_critical(v.target));
+      EXPECT_TRUE(mesh.arc_from(v.target) == end || mesh.arc_to(v.target) == end);
+      break;
+    case SeparationTargetKind::kPatch: {
+      EXPECT_TRUE(mesh.patch_critical(v.target));
+      bool on_patch = false;
+      for (HalfarcId h : mesh.patch_cycle(v.target)) on_patch |= mesh.tail(h) == end;
+      EXPECT_TRUE(on_patch);
+      break;
+    }
+  }
+  ASSERT_FALSE(v.default_row.terms.empty());
+  ASSERT_FALSE(v.failsafe_row.terms.empty());
+  EXPECT_EQ(v.default_row.rhs, 1);
+  EXPECT_EQ(v.failsafe_row.rhs, 1);
+  EXPECT_EQ(v.default_row.Evaluate(q), 0);
+  EXPECT_EQ(v.failsafe_row.Evaluate(q), 0);
+  std::vector<ArcId> seen;
+  for (const LinearTerm& t : v.default_row.terms) {
+    EXPECT_TRUE(t.coef == 1 || t.coef == -1);
+    seen.push_back(t.var);
+  }
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(std::adjacent_find(seen.begin(), seen.end()), seen.end());
+  for (const LinearTerm& t : v.failsafe_row.terms) {
+    EXPECT_EQ(t.coef, 1);
+    EXPECT_NE(
+        std::find(v.default_row.terms.begin(), v.default_row.terms.end(), LinearTerm{t.var, 1}),
+        v.default_row.terms.end());
+  }
+}
+
+// Consistent q with roughly half of the free arcs zero: many collapsed corridors, and negative
+// arcs here and there (the search only needs consistency).
+std::vector<int64_t> SparseConsistentQ(const ConsistentQuantizations& quantizations, int seed) {
+  std::mt19937 random(seed);
+  std::vector<int64_t> free_values;
+  for (size_t i = 0; i < quantizations.free_arcs().size(); ++i) {
+    free_values.push_back(static_cast<int64_t>(random() % 2));
+  }
+  return quantizations.Extend(free_values);
+}
+
+TEST(SeparationSearchTest, SharedMeshesSparseQuantizations) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  int total = 0;
+  for (const std::string& file : files) {
+    SCOPED_TRACE(ShortName(file));
+    const TMesh mesh = LoadTMeshOrDie(file);
+    const ConsistentQuantizations quantizations(mesh);
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      SeparationSearch search(mesh, {.block_box = mode});
+      for (int seed = 1; seed <= 3; ++seed) {
+        const std::vector<int64_t> q = SparseConsistentQ(quantizations, seed);
+        const std::vector<SeparationViolation> violations = search.FindViolations(q);
+        total += static_cast<int>(violations.size());
+        for (const SeparationViolation& v : violations) ExpectWellFormed(mesh, v, q);
+        // The search compares integer positions only through closed-interval tests, so a
+        // positive multiple of q gives the same answer.
+        std::vector<int64_t> tripled = q;
+        for (int64_t& x : tripled) x *= 3;
+        EXPECT_TRUE(SameViolations(search.FindViolations(tripled), violations));
+      }
+    }
+  }
+  EXPECT_GT(total, 0);
+}
+
+// All arcs zero is consistent: every critical node's sectors and every link meet something.
+TEST(SeparationSearchTest, SharedMeshesAllZero) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (const std::string& file : files) {
+    SCOPED_TRACE(ShortName(file));
+    const TMesh mesh = LoadTMeshOrDie(file);
+    const std::vector<int64_t> q(mesh.num_arcs(), 0);
+    SeparationSearch search(mesh);
+    const std::vector<SeparationViolation> violations = search.FindViolations(q);
+    EXPECT_FALSE(violations.empty());
+    for (const SeparationViolation& v : violations) ExpectWellFormed(mesh, v, q);
+    // Only links with a zero-length start box exist here, so the first step of every node
+    // sector already ends at zero distance: each critical node reports from some sector.
+    std::vector<uint8_t> reported(mesh.num_entities(), 0);
+    for (const SeparationViolation& v : violations) reported[v.start_entity] = 1;
+    for (EntityId e = 0; e < mesh.num_entities(); ++e) {
+      if (mesh.entity_dim(e) == EntityDim::kNode) {
+        EXPECT_TRUE(reported[e]) << "entity " << e;
+      }
+    }
+  }
+}
+
+// T13: the same input gives identical lists, in identical order, from the same instance and
+// from a fresh one.
+TEST(SeparationSearchTest, Deterministic) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (size_t i = 0; i < files.size(); i += 7) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    const std::vector<int64_t> q = SparseConsistentQ(quantizations, 11);
+    SeparationSearch search(mesh);
+    const std::vector<SeparationViolation> first = search.FindViolations(q);
+    EXPECT_FALSE(first.empty());
+    EXPECT_TRUE(SameViolations(search.FindViolations(q), first));
+    SeparationSearch fresh(mesh);
+    EXPECT_TRUE(SameViolations(fresh.FindViolations(q), first));
+  }
+}
+
+// Not an assertion on speed (machines differ): prints the time per FindViolations call for q
+// near the targets and for sparse q on the largest shared meshes, for the record.
+TEST(SeparationSearchTest, TimingOnLargestSharedMeshes) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  std::vector<std::pair<int, std::string>> by_size;
+  for (const std::string& file : files) {
+    by_size.push_back({LoadTMeshOrDie(file).num_arcs(), file});
+  }
+  std::sort(by_size.rbegin(), by_size.rend());
+  for (size_t i = 0; i < 4 && i < by_size.size(); ++i) {
+    const TMesh mesh = LoadTMeshOrDie(by_size[i].second);
+    const ConsistentQuantizations quantizations(mesh);
+    SeparationSearch search(mesh);
+    for (const auto& [label, q] : {std::pair<const char*, std::vector<int64_t>>{
+                                       "near targets", quantizations.NearTargets(4.0)},
+                                   std::pair<const char*, std::vector<int64_t>>{
+                                       "sparse", SparseConsistentQ(quantizations, 5)}}) {
+      size_t found = search.FindViolations(q).size();
+      constexpr int kRepetitions = 50;
+      const auto begin = std::chrono::steady_clock::now();
+      for (int r = 0; r < kRepetitions; ++r) found = search.FindViolations(q).size();
+      const double micros =
+          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - begin)
+              .count() /
+          kRepetitions;
+      std::printf("[ timing   ] %-40.40s %4d arcs, %-12s: %8.1f us per call, %zu violations\n",
+                  ShortName(by_size[i].second).c_str(), mesh.num_arcs(), label, micros, found);
+      for (const SeparationViolation& v : search.FindViolations(q)) ExpectWellFormed(mesh, v, q);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace ispq
