@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "core/direction.h"
+#include "core/rotation.h"
 
 namespace ispq {
 
@@ -63,6 +64,22 @@ inline bool Overlap(const IntBox& a, const IntBox& b) {
 // Closed-interval overlap; false if either box is inverted.
 inline bool Touches(const IntBox& a, const IntBox& b) {
   return !IsInverted(a) && !IsInverted(b) && Overlap(a, b);
+}
+
+// The image of a non-inverted box under a rotation, again sorted per axis.
+inline IntBox RotateBox(Rotation r, const IntBox& box) {
+  IntBox result;
+  for (int i = 0; i < 3; ++i) {
+    const int source = r.SourceAxis(i);
+    if (r.NegatesAxis(i)) {
+      result.lo[i] = -box.hi[source];
+      result.hi[i] = -box.lo[source];
+    } else {
+      result.lo[i] = box.lo[source];
+      result.hi[i] = box.hi[source];
+    }
+  }
+  return result;
 }
 
 }  // namespace ispq

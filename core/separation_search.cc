@@ -10,7 +10,6 @@
 #include "core/flat_lists.h"
 #include "core/halfarc_neighborhood.h"
 #include "core/integer_box.h"
-#include "core/rotation_tables.h"
 #include "core/separation_start_configurations.h"
 #include "core/stamped_set.h"
 
@@ -47,12 +46,12 @@ struct Walk {
   int32_t parent;  // arena index, -1 for the start
   HalfarcId step;  // the halfarc that led here, kNoId for the start
   NodeId node;
-  SlotId slot;       // (block used for the last step, node)
-  int32_t k;         // number of halfarcs walked after branching
-  uint8_t rotation;  // index of M: reference frame -> frame of the slot's block
-  DirSet walked;     // W
-  DirSet monotone;   // M
-  Dir step_dir;      // direction of `step` in the reference frame
+  SlotId slot;        // (block used for the last step, node)
+  int32_t k;          // number of halfarcs walked after branching
+  Rotation rotation;  // M: reference frame -> frame of the slot's block
+  DirSet walked;      // W
+  DirSet monotone;    // M
+  Dir step_dir;       // direction of `step` in the reference frame
   bool branched;
   // Branched and already past the start box along the monotone direction by more than negative
   // arcs could ever bring back: neither this walk nor any walk extending it can report.
@@ -125,13 +124,12 @@ class SeparationSearch::Impl {
   bool TouchesStartBox(const IntBox& other) const {
     return !IsInverted(other) && Overlap(box_, other);
   }
-  IntBox PatchBox(const Walk& walk, HalfpatchId side, SlotId slot, uint8_t to_reference) const;
+  IntBox PatchBox(const Walk& walk, HalfpatchId side, SlotId slot, Rotation to_reference) const;
   void BuildViolation(int config, int32_t walk_index, DirSet dirs, SeparationTargetKind kind,
                       int32_t target, SeparationViolation& violation);
 
   const TMesh& mesh_;
   const SeparationSearchOptions options_;
-  const RotationTables& rotations_;
   const BlockNodeSlots slots_;
   const SeparationStartConfigurations configs_;
   std::vector<SlotId> config_start_slot_;
@@ -142,7 +140,7 @@ class SeparationSearch::Impl {
   FlatLists<FanCrossing> fan_crossings_;      // per slot, in the block's halfpatch order
   FlatLists<CriticalSide> critical_sides_;    // per node, ascending incident halfpatch
   FlatLists<SlotId> side_slots_;              // per halfpatch: its owner's slots of its cycle
-  std::vector<uint8_t> crossing_rotation_;    // per halfpatch: Rot(g) as a rotation index
+  std::vector<Rotation> crossing_rotation_;   // per halfpatch: Rot(g)
 
   // Geometry of the current q (section 6.3).
   std::vector<IntVec3> positions_;  // per slot
@@ -161,10 +159,10 @@ class SeparationSearch::Impl {
   StampedSet pre_branch_arcs_;       // over arcs
   // Scratch of the current pop: the fan over blocks and the candidates.
   StampedSet in_fan_;
-  std::vector<uint8_t> fan_rotation_;      // M_b
-  std::vector<uint8_t> fan_to_reference_;  // M_b^-1
-  std::vector<SlotId> fan_slot_;           // (b, current node)
-  std::vector<int8_t> fan_admissible_;     // -1 not evaluated yet at this node, else 0 or 1
+  std::vector<Rotation> fan_rotation_;      // M_b
+  std::vector<Rotation> fan_to_reference_;  // M_b^-1
+  std::vector<SlotId> fan_slot_;            // (b, current node)
+  std::vector<int8_t> fan_admissible_;      // -1 not evaluated yet at this node, else 0 or 1
   std::vector<BlockId> fan_order_;
   std::vector<Candidate> candidates_;
   std::vector<int32_t> fan_entries_;  // indices into halfarc_blocks_.all_values()
@@ -172,11 +170,7 @@ class SeparationSearch::Impl {
 };
 
 SeparationSearch::Impl::Impl(const TMesh& mesh, SeparationSearchOptions options)
-    : mesh_(mesh),
-      options_(options),
-      rotations_(RotationTables::Get()),
-      slots_(mesh),
-      configs_(mesh) {
+    : mesh_(mesh), options_(options), slots_(mesh), configs_(mesh) {
   for (int i = 0; i < configs_.size(); ++i) {
     config_start_slot_.push_back(slots_.Find(configs_[i].start_block, configs_[i].start_node));
   }
@@ -215,7 +209,7 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, SeparationSearchOptions options)
     }
   }
   for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
-    crossing_rotation_.push_back(static_cast<uint8_t>(mesh.crossing_rotation(hp).index()));
+    crossing_rotation_.push_back(mesh.crossing_rotation(hp));
     side_slots_.OpenList();
     const BlockId b = mesh.halfpatch_block(hp);
     if (b == kNoId) continue;
@@ -320,7 +314,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   start.node = configs_[config].start_node;
   start.slot = config_start_slot_[config];
   start.k = 0;
-  start.rotation = 0;  // the identity: the start block's frame is the reference frame
+  start.rotation = Rotation();  // the identity: the start block's frame is the reference frame
   start.walked = 0;
   start.monotone = kAllDirBits & static_cast<DirSet>(~link_axis_);
   start.step_dir = Dir::kPosU;
@@ -367,11 +361,10 @@ void SeparationSearch::Impl::Push(const Walk& walk) {
 }
 
 IntBox SeparationSearch::Impl::PatchBox(const Walk& walk, HalfpatchId side, SlotId slot,
-                                        uint8_t to_reference) const {
+                                        Rotation to_reference) const {
   const IntVec3& at = positions_[slot];
   const IntBox& own = side_boxes_[side];
-  const IntBox local =
-      rotations_.Apply(to_reference, IntBox{Subtract(own.lo, at), Subtract(own.hi, at)});
+  const IntBox local = RotateBox(to_reference, IntBox{Subtract(own.lo, at), Subtract(own.hi, at)});
   return {Add(walk.x, local.lo), Add(walk.x, local.hi)};
 }
 
@@ -380,10 +373,10 @@ IntBox SeparationSearch::Impl::PatchBox(const Walk& walk, HalfpatchId side, Slot
 void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
   in_fan_.Clear();
   fan_order_.clear();
-  const auto add = [this](BlockId b, uint8_t rotation, SlotId slot) {
+  const auto add = [this](BlockId b, Rotation rotation, SlotId slot) {
     in_fan_.Insert(b);
     fan_rotation_[b] = rotation;
-    fan_to_reference_[b] = rotations_.Inverse(rotation);
+    fan_to_reference_[b] = rotation.Inverse();
     fan_slot_[b] = slot;
     fan_admissible_[b] = -1;
     fan_order_.push_back(b);
@@ -400,7 +393,7 @@ void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
           !TouchesStartBox(PatchBox(walk, crossing.side, slot, fan_to_reference_[b]))) {
         continue;
       }
-      add(across, rotations_.After(crossing_rotation_[crossing.side], fan_rotation_[b]),
+      add(across, crossing_rotation_[crossing.side].After(fan_rotation_[b]),
           crossing.neighbor_slot);
     }
   }
@@ -444,7 +437,7 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
     if (!mesh_.arc_critical(arc)) continue;
     // The arc's axis is read in the first of its blocks in the fan, as in the reference.
     const HalfarcInBlock& entry = all_entries[fan_entries_[candidate.begin]];
-    Dir along = rotations_.Apply(fan_to_reference_[entry.block], entry.dir);
+    Dir along = fan_to_reference_[entry.block].Apply(entry.dir);
     const DirSet approach = walk.walked & off_link & static_cast<DirSet>(~AxisBits(AxisOf(along)));
     if ((approach & walk.monotone) == 0) continue;
     int64_t length = q[arc];
@@ -463,8 +456,8 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
   for (const CriticalSide& side : critical_sides_[walk.node]) {
     const BlockId b = slots_.block_of(side.slot);
     if (!in_fan_.Contains(b)) continue;
-    const uint8_t to_reference = fan_to_reference_[b];
-    const int normal = AxisOf(rotations_.Apply(to_reference, MakeDir(side.normal_axis, false)));
+    const Rotation to_reference = fan_to_reference_[b];
+    const int normal = AxisOf(to_reference.Apply(MakeDir(side.normal_axis, false)));
     const DirSet approach = walk.walked & off_link & AxisBits(normal);
     if ((approach & walk.monotone) == 0) continue;
     if (at_start_box || TouchesStartBox(PatchBox(walk, side.side, side.slot, to_reference))) {
@@ -489,14 +482,12 @@ bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, Blo
     fan_admissible_[block] = 1;
     return true;
   }
-  const uint8_t to_reference = fan_to_reference_[block];
+  const Rotation to_reference = fan_to_reference_[block];
   const IntVec3& at = positions_[fan_slot_[block]];
   const IntVec3 low = Add(
-      walk.x, rotations_.Apply(to_reference,
-                               Subtract(positions_[slots_.corner_slot(block, kMinCorner)], at)));
+      walk.x, to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMinCorner)], at)));
   const IntVec3 high = Add(
-      walk.x, rotations_.Apply(to_reference,
-                               Subtract(positions_[slots_.corner_slot(block, kMaxCorner)], at)));
+      walk.x, to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMaxCorner)], at)));
   const IntBox block_box =
       options_.block_box == BlockBoxMode::kSorted ? SpannedBox(low, high) : IntBox{low, high};
   const bool admissible = TouchesStartBox(block_box);
@@ -518,7 +509,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
     for (int32_t i = candidate.begin; i < candidate.end; ++i) {
       const HalfarcInBlock& entry = all_entries[fan_entries_[i]];
       if (!Admissible(walk, at_start_box, entry.block)) continue;
-      const Dir dir = rotations_.Apply(fan_to_reference_[entry.block], entry.dir);
+      const Dir dir = fan_to_reference_[entry.block].Apply(entry.dir);
       const DirSet dir_bit = DirBit(dir);
       const bool along_link = (dir_bit & link_axis_) != 0;
       Walk next = walk;

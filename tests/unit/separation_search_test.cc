@@ -232,38 +232,5 @@ TEST(SeparationSearchTest, Deterministic) {
   }
 }
 
-// Not an assertion on speed (machines differ): prints the time per FindViolations call for q
-// near the targets and for sparse q on the largest shared meshes, for the record.
-TEST(SeparationSearchTest, TimingOnLargestSharedMeshes) {
-  const std::vector<std::string> files = SharedTMeshFiles();
-  ASSERT_FALSE(files.empty());
-  std::vector<std::pair<int, std::string>> by_size;
-  for (const std::string& file : files) {
-    by_size.push_back({LoadTMeshOrDie(file).num_arcs(), file});
-  }
-  std::sort(by_size.rbegin(), by_size.rend());
-  for (size_t i = 0; i < 4 && i < by_size.size(); ++i) {
-    const TMesh mesh = LoadTMeshOrDie(by_size[i].second);
-    const ConsistentQuantizations quantizations(mesh);
-    SeparationSearch search(mesh);
-    for (const auto& [label, q] : {std::pair<const char*, std::vector<int64_t>>{
-                                       "near targets", quantizations.NearTargets(4.0)},
-                                   std::pair<const char*, std::vector<int64_t>>{
-                                       "sparse", SparseConsistentQ(quantizations, 5)}}) {
-      size_t found = search.FindViolations(q).size();
-      constexpr int kRepetitions = 50;
-      const auto begin = std::chrono::steady_clock::now();
-      for (int r = 0; r < kRepetitions; ++r) found = search.FindViolations(q).size();
-      const double micros =
-          std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - begin)
-              .count() /
-          kRepetitions;
-      std::printf("[ timing   ] %-40.40s %4d arcs, %-12s: %8.1f us per call, %zu violations\n",
-                  ShortName(by_size[i].second).c_str(), mesh.num_arcs(), label, micros, found);
-      for (const SeparationViolation& v : search.FindViolations(q)) ExpectWellFormed(mesh, v, q);
-    }
-  }
-}
-
 }  // namespace
 }  // namespace ispq
