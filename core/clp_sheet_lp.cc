@@ -1,0 +1,106 @@
+#include "core/clp_sheet_lp.h"
+
+#include <cmath>
+#include <vector>
+
+#include "ClpSimplex.hpp"
+#include "CoinFinite.hpp"
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+
+namespace ispq {
+namespace {
+
+// CLP spells infinity as +-COIN_DBL_MAX.
+double ToClp(double bound) {
+  if (std::isinf(bound)) return bound > 0 ? COIN_DBL_MAX : -COIN_DBL_MAX;
+  return bound;
+}
+
+class ClpSheetLp final : public SheetLp {
+ public:
+  ClpSheetLp(int num_columns, const ClpSheetLpOptions& options) : options_(options) {
+    model_.setLogLevel(options.log_level);
+    const std::vector<double> lower(num_columns, 0.0), upper(num_columns, COIN_DBL_MAX),
+        objective(num_columns, 0.0);
+    const std::vector<CoinBigIndex> starts(num_columns + 1, 0);
+    model_.loadProblem(num_columns, 0, starts.data(), nullptr, nullptr, lower.data(), upper.data(),
+                       objective.data(), nullptr, nullptr);
+  }
+
+  int num_columns() const override { return model_.numberColumns(); }
+  int num_rows() const override { return model_.numberRows(); }
+
+  void SetObjectiveCoefficient(int column, double value) override {
+    model_.setObjectiveCoefficient(column, value);
+  }
+  void SetColumnBounds(int column, double lower, double upper) override {
+    model_.setColumnBounds(column, ToClp(lower), ToClp(upper));
+  }
+  void SetRowBounds(int row, double lower, double upper) override {
+    model_.setRowBounds(row, ToClp(lower), ToClp(upper));
+  }
+
+  void AddRows(const LpRowBatch& batch) override {
+    if (batch.size() == 0) return;
+    std::vector<double> lower(batch.size()), upper(batch.size());
+    for (int i = 0; i < batch.size(); ++i) {
+      lower[i] = ToClp(batch.lower()[i]);
+      upper[i] = ToClp(batch.upper()[i]);
+    }
+    const std::vector<CoinBigIndex> starts(batch.starts().begin(), batch.starts().end());
+    model_.addRows(batch.size(), lower.data(), upper.data(), starts.data(), batch.columns().data(),
+                   batch.coefs().data());
+    // The factorization of the old basis no longer matches the row count.
+    fresh_factorization_needed_ = true;
+  }
+
+  absl::StatusOr<LpOutcome> Solve() override {
+    int flags = 0;
+    if (options_.keep_factorization) {
+      flags = 1;
+      if (!fresh_factorization_needed_ && solved_once_) flags |= 2;
+    }
+    RunSimplex(flags);
+    int status = model_.status();
+    if (status != 0 && status != 1) {
+      // Numerical trouble from a stale basis: retry once from the slack basis.
+      model_.allSlackBasis(true);
+      RunSimplex(options_.keep_factorization ? 1 : 0);
+      status = model_.status();
+    }
+    solved_once_ = true;
+    fresh_factorization_needed_ = false;
+    if (status == 0) return LpOutcome::kOptimal;
+    if (status == 1) return LpOutcome::kInfeasible;
+    return absl::InternalError(absl::StrCat("CLP failed with status ", status, " (secondary ",
+                                            model_.secondaryStatus(), ") on ", model_.numberRows(),
+                                            " rows x ", model_.numberColumns(), " columns"));
+  }
+
+  std::span<const double> column_values() const override {
+    return {model_.getColSolution(), static_cast<size_t>(model_.numberColumns())};
+  }
+
+ private:
+  void RunSimplex(int flags) {
+    if (options_.algorithm == ClpAlgorithm::kPrimal) {
+      model_.primal(0, flags);
+    } else {
+      model_.dual(0, flags);
+    }
+  }
+
+  ClpSheetLpOptions options_;
+  ClpSimplex model_;
+  bool solved_once_ = false;
+  bool fresh_factorization_needed_ = true;
+};
+
+}  // namespace
+
+std::unique_ptr<SheetLp> NewClpSheetLp(int num_columns, const ClpSheetLpOptions& options) {
+  return std::make_unique<ClpSheetLp>(num_columns, options);
+}
+
+}  // namespace ispq

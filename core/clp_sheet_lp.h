@@ -1,0 +1,34 @@
+// SheetLp (core/sheet_lp.h) on COIN-OR CLP, the open-source simplex solver the paper uses.
+//
+// One ClpSimplex object lives as long as the SheetLp: edits go straight into it and every
+// Solve() restarts the simplex from the previous basis (and, when the row count is unchanged,
+// from the previous factorization), which is what makes hundreds of solves of the same small
+// model cheap. CLP's own logging is silenced unless a log level is asked for.
+#ifndef ISPQ_CORE_CLP_SHEET_LP_H_
+#define ISPQ_CORE_CLP_SHEET_LP_H_
+
+#include <cstdint>
+#include <memory>
+
+#include "core/sheet_lp.h"
+
+namespace ispq {
+
+enum class ClpAlgorithm : uint8_t {
+  kPrimal,  // primal simplex: the basis stays optimal-ish after objective-only edits
+  kDual,    // dual simplex: the basis stays dual feasible after bound-only edits
+};
+
+struct ClpSheetLpOptions {
+  int log_level = 0;
+  ClpAlgorithm algorithm = ClpAlgorithm::kDual;
+  // Keep CLP's work areas and factorization between solves (startFinishOptions 1 | 2).
+  bool keep_factorization = true;
+};
+
+// A SheetLp with num_columns columns in [0, +inf), objective 0, and no rows.
+std::unique_ptr<SheetLp> NewClpSheetLp(int num_columns, const ClpSheetLpOptions& options = {});
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_CLP_SHEET_LP_H_

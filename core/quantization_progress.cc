@@ -1,0 +1,19 @@
+#include "core/quantization_progress.h"
+
+namespace ispq {
+
+const char* QuantizationPhaseName(QuantizationPhase phase) {
+  switch (phase) {
+    case QuantizationPhase::kGreedy:
+      return "greedy";
+    case QuantizationPhase::kSeparation:
+      return "separation";
+    case QuantizationPhase::kFailsafe:
+      return "failsafe";
+    case QuantizationPhase::kFinal:
+      return "final";
+  }
+  return "unknown";
+}
+
+}  // namespace ispq

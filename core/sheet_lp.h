@@ -1,0 +1,87 @@
+// The linear-program interface the integer-sheet LPs (paper App. A) are written against.
+//
+// The quantizer keeps one small LP per independent subproblem alive for the whole run and
+// solves it hundreds of times, each time after changing a handful of numbers: objective
+// weights of the bundles a sheet touched, the bounds of the two root columns, row bounds whose
+// right-hand side depends on the current quantization, and appended separation rows. This
+// interface therefore exposes exactly those incremental edits and a Solve() that is expected to
+// warm-start from the previous basis, in the spirit of an incremental solver interface (model
+// edits are pushed to the live solver instead of rebuilding it). Columns are fixed at creation;
+// rows can only be appended. Implementations: core/clp_sheet_lp.h (COIN-OR CLP).
+#ifndef ISPQ_CORE_SHEET_LP_H_
+#define ISPQ_CORE_SHEET_LP_H_
+
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "absl/status/statusor.h"
+
+namespace ispq {
+
+inline constexpr double kLpInfinity = std::numeric_limits<double>::infinity();
+
+// A batch of rows in compressed form: row i consists of the terms [starts[i], starts[i + 1])
+// and requires lower[i] <= sum coef * x <= upper[i] (either bound may be infinite).
+class LpRowBatch {
+ public:
+  LpRowBatch() : starts_{0} {}
+
+  void Add(std::span<const int32_t> columns, std::span<const double> coefs, double lower,
+           double upper) {
+    columns_.insert(columns_.end(), columns.begin(), columns.end());
+    coefs_.insert(coefs_.end(), coefs.begin(), coefs.end());
+    starts_.push_back(static_cast<int32_t>(columns_.size()));
+    lower_.push_back(lower);
+    upper_.push_back(upper);
+  }
+  void Clear() {
+    starts_.assign(1, 0);
+    columns_.clear();
+    coefs_.clear();
+    lower_.clear();
+    upper_.clear();
+  }
+
+  int size() const { return static_cast<int>(lower_.size()); }
+  std::span<const int32_t> starts() const { return starts_; }
+  std::span<const int32_t> columns() const { return columns_; }
+  std::span<const double> coefs() const { return coefs_; }
+  std::span<const double> lower() const { return lower_; }
+  std::span<const double> upper() const { return upper_; }
+
+ private:
+  std::vector<int32_t> starts_;
+  std::vector<int32_t> columns_;
+  std::vector<double> coefs_;
+  std::vector<double> lower_, upper_;
+};
+
+enum class LpOutcome : uint8_t { kOptimal, kInfeasible };
+
+// A minimization LP over num_columns() columns that is edited in place between solves. New
+// columns start with bounds [0, +inf) and objective coefficient 0.
+class SheetLp {
+ public:
+  virtual ~SheetLp() = default;
+
+  virtual int num_columns() const = 0;
+  virtual int num_rows() const = 0;
+
+  virtual void SetObjectiveCoefficient(int column, double value) = 0;
+  virtual void SetColumnBounds(int column, double lower, double upper) = 0;
+  virtual void SetRowBounds(int row, double lower, double upper) = 0;
+  // Appends the rows of the batch; they get the ids num_rows() .. num_rows() + batch.size() - 1.
+  virtual void AddRows(const LpRowBatch& batch) = 0;
+
+  // Solves from the previous basis. kInfeasible when no column values satisfy the bounds and
+  // rows; an error only when the solver fails (numerical trouble, unboundedness).
+  virtual absl::StatusOr<LpOutcome> Solve() = 0;
+  // Column values of the last solve that returned kOptimal.
+  virtual std::span<const double> column_values() const = 0;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SHEET_LP_H_

@@ -1,0 +1,207 @@
+#include "core/sheet_subproblem.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/sheet_weights.h"
+
+namespace ispq {
+namespace {
+
+// LP values below this are simplex noise, not part of the sheet.
+constexpr double kZeroTolerance = 1e-7;
+
+}  // namespace
+
+SheetSubproblem::SheetSubproblem(SheetLpContext* context, std::vector<BundleId> bundles,
+                                 std::vector<int32_t> equalities, std::vector<int32_t> rows)
+    : context_(context),
+      bundles_(std::move(bundles)),
+      equalities_(std::move(equalities)),
+      rows_(std::move(rows)) {
+  for (size_t i = 0; i < bundles_.size(); ++i) {
+    context_->local_index_of_bundle[bundles_[i]] = static_cast<int32_t>(i);
+  }
+  bundle_dirty_.assign(bundles_.size(), 0);
+  scratch_delta_.assign(bundles_.size(), 0);
+  Build();
+}
+
+void SheetSubproblem::AppendRow(std::span<const LinearTerm> terms, double lower, double upper,
+                                LpRowBatch* batch) {
+  // A bundle term c * x_b becomes c * Delta+ - c * Delta- on the bundle's column pair.
+  columns_.clear();
+  coefs_.clear();
+  for (const LinearTerm& t : terms) {
+    const int32_t i = context_->local_index_of_bundle[t.var];
+    columns_.push_back(2 * i);
+    coefs_.push_back(t.coef);
+    columns_.push_back(2 * i + 1);
+    coefs_.push_back(-t.coef);
+  }
+  batch->Add(columns_, coefs_, lower, upper);
+}
+
+double SheetSubproblem::RowLowerBound(int32_t r) const {
+  // Eqs. 6a/6b: B (q_pre + Delta) >= rhs, i.e. B Delta >= rhs - B q_pre = -slack.
+  const InequalityRows& rows = *context_->rows;
+  return rows.active(r) ? static_cast<double>(-rows.slack(r)) : -kLpInfinity;
+}
+
+void SheetSubproblem::Build() {
+  lp_ = context_->new_lp(2 * static_cast<int>(bundles_.size()));
+  LpRowBatch batch;
+  for (int32_t e : equalities_) AppendRow((*context_->equalities)[e], 0.0, 0.0, &batch);
+  lp_->AddRows(batch);
+  std::vector<int32_t> rows;
+  rows.swap(rows_);
+  AddRows(rows);
+  for (BundleId b : bundles_) PushWeights(b);
+}
+
+void SheetSubproblem::AddRows(std::span<const int32_t> new_rows) {
+  if (new_rows.empty()) return;
+  LpRowBatch batch;
+  for (int32_t r : new_rows) {
+    context_->lp_row_of_row[r] = lp_->num_rows() + batch.size();
+    rows_.push_back(r);
+    AppendRow(context_->rows->terms(r), RowLowerBound(r), kLpInfinity, &batch);
+  }
+  lp_->AddRows(batch);
+}
+
+void SheetSubproblem::MarkBundleMoved(BundleId b) {
+  const int32_t i = context_->local_index_of_bundle[b];
+  if (!bundle_dirty_[i]) {
+    bundle_dirty_[i] = 1;
+    dirty_bundles_.push_back(b);
+  }
+  for (const InequalityRows::Incidence& inc : context_->rows->rows_of_bundle(b)) {
+    dirty_rows_.push_back(inc.row);
+  }
+}
+
+void SheetSubproblem::MarkRowChanged(int32_t r) { dirty_rows_.push_back(r); }
+
+void SheetSubproblem::PushRowBounds(int32_t r) {
+  const int32_t lp_row = context_->lp_row_of_row[r];
+  if (lp_row == kNoId) return;  // a failsafe row not (yet) in any LP
+  lp_->SetRowBounds(lp_row, RowLowerBound(r), kLpInfinity);
+}
+
+void SheetSubproblem::PushWeights(BundleId b) {
+  const BundleQuantization& x = *context_->quantization;
+  const BundleWeights w =
+      weights_ == WeightScheme::kTiered
+          ? BundleSheetWeights(x.targets(b), static_cast<double>(x.value(b)), context_->num_arcs)
+          : BundleMarginalWeights(x.targets(b), static_cast<double>(x.value(b)), 1e-3);
+  const int32_t i = context_->local_index_of_bundle[b];
+  lp_->SetObjectiveCoefficient(2 * i, w.inflate);
+  lp_->SetObjectiveCoefficient(2 * i + 1, w.deflate);
+}
+
+double SheetSubproblem::DeflationCap(BundleId b) const {
+  return context_->has_floor[b] ? static_cast<double>(context_->quantization->value(b))
+                                : kLpInfinity;
+}
+
+void SheetSubproblem::ResetColumnPair(int32_t local) {
+  lp_->SetColumnBounds(2 * local, 0, allow_inflation_ ? kLpInfinity : 0);
+  lp_->SetColumnBounds(2 * local + 1, 0, allow_deflation_ ? kLpInfinity : 0);
+}
+
+void SheetSubproblem::SetMode(bool allow_inflation, bool allow_deflation) {
+  if (allow_inflation == allow_inflation_ && allow_deflation == allow_deflation_) return;
+  allow_inflation_ = allow_inflation;
+  allow_deflation_ = allow_deflation;
+  for (int32_t i = 0; i < static_cast<int32_t>(bundles_.size()); ++i) ResetColumnPair(i);
+}
+
+absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, RationalSheet* sheet) {
+  if (request.weights != weights_) {
+    weights_ = request.weights;
+    for (BundleId b : bundles_) MarkBundleMoved(b);
+  }
+  for (BundleId b : dirty_bundles_) {
+    PushWeights(b);
+    const int32_t i = context_->local_index_of_bundle[b];
+    bundle_dirty_[i] = 0;
+  }
+  dirty_bundles_.clear();
+  for (int32_t r : dirty_rows_) PushRowBounds(r);
+  dirty_rows_.clear();
+
+  if (root_local_ != kNoId) ResetColumnPair(root_local_);
+  root_local_ = kNoId;
+  for (int32_t i : blocked_locals_) ResetColumnPair(i);
+  blocked_locals_.clear();
+  SetMode(request.allow_inflation, request.allow_deflation);
+  for (const auto& [b, inflation] : request.blocked) {
+    const int32_t i = context_->local_index_of_bundle[b];
+    lp_->SetColumnBounds(inflation ? 2 * i : 2 * i + 1, 0, 0);
+    blocked_locals_.push_back(i);
+  }
+  if (request.root != kNoId) {
+    root_local_ = context_->local_index_of_bundle[request.root];
+    const int plus = 2 * root_local_, minus = plus + 1;
+    if (request.inflate_root) {
+      lp_->SetColumnBounds(plus, 1, kLpInfinity);
+      lp_->SetColumnBounds(minus, 0, 0);
+    } else {
+      // A root at its floor cannot deflate: no need to ask the solver.
+      const double cap = DeflationCap(request.root);
+      if (cap < 1) return false;
+      lp_->SetColumnBounds(plus, 0, 0);
+      lp_->SetColumnBounds(minus, 1, kLpInfinity);
+    }
+  }
+
+  // Fixed values come last: they may pin the root to more than its pump bound.
+  for (const auto& [b, value] : request.fixed) {
+    const int32_t i = context_->local_index_of_bundle[b];
+    const double v = static_cast<double>(value);
+    if (-v > DeflationCap(b)) return false;  // below the bundle's floor
+    lp_->SetColumnBounds(2 * i, std::max(v, 0.0), std::max(v, 0.0));
+    lp_->SetColumnBounds(2 * i + 1, std::max(-v, 0.0), std::max(-v, 0.0));
+    blocked_locals_.push_back(i);
+  }
+  ++solver_calls_;
+  absl::StatusOr<LpOutcome> outcome = lp_->Solve();
+  if (!outcome.ok()) return outcome.status();
+  if (*outcome == LpOutcome::kInfeasible) return false;
+
+  sheet->bundles.clear();
+  sheet->values.clear();
+  const std::span<const double> x = lp_->column_values();
+  for (size_t i = 0; i < bundles_.size(); ++i) {
+    const double v = x[2 * i] - x[2 * i + 1];
+    if (std::abs(v) > kZeroTolerance) {
+      sheet->bundles.push_back(bundles_[i]);
+      sheet->values.push_back(v);
+    }
+  }
+  return true;
+}
+
+bool SheetSubproblem::IsConsistent(const IntegerSheet& sheet) {
+  const std::vector<int32_t>& local = context_->local_index_of_bundle;
+  for (size_t k = 0; k < sheet.bundles.size(); ++k) {
+    scratch_delta_[local[sheet.bundles[k]]] = sheet.deltas[k];
+  }
+  bool consistent = true;
+  for (int32_t e : equalities_) {
+    int64_t sum = 0;
+    for (const LinearTerm& t : (*context_->equalities)[e]) {
+      sum += t.coef * scratch_delta_[local[t.var]];
+    }
+    if (sum != 0) {
+      consistent = false;
+      break;
+    }
+  }
+  for (BundleId b : sheet.bundles) scratch_delta_[local[b]] = 0;
+  return consistent;
+}
+
+}  // namespace ispq

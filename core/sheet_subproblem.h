@@ -1,0 +1,132 @@
+// The sheet LP of one independent subproblem (paper App. A with the decomposition of section
+// 4.4), built once and then edited in place between solves.
+//
+// Columns: two per bundle of the subproblem, Delta+ (column 2i) and Delta- (column 2i + 1), both
+// >= 0, so that a sheet is Delta+ - Delta-. Rows: the subproblem's consistency rows over bundles
+// (eq. 7b, after bundle elimination), then its inequality rows (eqs. 7c/7d) in the order they were
+// added, each as sum coef (Delta+ - Delta-) >= rhs - value(q_pre). Between solves only what
+// changed is pushed to the solver: the weights (eq. 4) of bundles that moved, the bounds of rows
+// whose value or activity changed, the bounds of the root columns (eqs. 7e/7f) and, when the
+// mode changes, the Delta+/Delta- upper bounds (uniform-sign and non-deflating modes, eq. 7g).
+// Everything that stays is left to the solver's warm start.
+#ifndef ISPQ_CORE_SHEET_SUBPROBLEM_H_
+#define ISPQ_CORE_SHEET_SUBPROBLEM_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "core/arc_bundles.h"
+#include "core/bundle_quantization.h"
+#include "core/consistency_matrix.h"
+#include "core/flat_lists.h"
+#include "core/inequality_rows.h"
+#include "core/integer_sheet.h"
+#include "core/sheet_lp.h"
+
+namespace ispq {
+
+// State shared by all subproblem LPs of one quantization run (owned by the driver).
+struct SheetLpContext {
+  const BundleQuantization* quantization;
+  const InequalityRows* rows;
+  const FlatLists<LinearTerm>* equalities;  // consistency rows over bundles
+  double num_arcs;                          // |A| in the weights of eq. 4
+  std::function<std::unique_ptr<SheetLp>(int num_columns)> new_lp;
+  // Per bundle: its column pair index in its current subproblem. Per inequality row: its row
+  // index in its subproblem's LP. Each bundle and row belongs to exactly one subproblem.
+  std::vector<int32_t> local_index_of_bundle;
+  std::vector<int32_t> lp_row_of_row;
+  // Per bundle: whether an always-active row x_b >= 0 exists (a block extent or arc bound over
+  // this bundle alone). A request that would take such a bundle below 0 is infeasible without
+  // asking the solver (common: deflating a root that is already 0).
+  std::vector<uint8_t> has_floor;
+};
+
+enum class WeightScheme : uint8_t {
+  kTiered,        // eq. 4
+  kMarginalCost,  // the bundles' exact objective change per unit (core/sheet_weights.h)
+};
+
+struct SheetRequest {
+  BundleId root = kNoId;  // the pumped bundle (7e/7f); kNoId for a separating solve
+  WeightScheme weights = WeightScheme::kTiered;
+  bool inflate_root = true;
+  bool allow_inflation = true;  // Delta+ may be non-zero off the root
+  bool allow_deflation = true;  // Delta- may be non-zero off the root (false: eq. 7g)
+  // Bundles that must not move in the given direction in this solve (true: inflation).
+  std::span<const std::pair<BundleId, bool>> blocked;
+  // Bundles whose change is fixed to the given integer in this solve.
+  std::span<const std::pair<BundleId, int64_t>> fixed;
+};
+
+// The rational solution of a solve: bundles with a non-zero Delta+ - Delta-, ascending.
+struct RationalSheet {
+  std::vector<BundleId> bundles;
+  std::vector<double> values;
+};
+
+class SheetSubproblem {
+ public:
+  // `bundles` ascending; `equalities` and `rows` are ids into the context's stores, all over
+  // these bundles only.
+  SheetSubproblem(SheetLpContext* context, std::vector<BundleId> bundles,
+                  std::vector<int32_t> equalities, std::vector<int32_t> rows);
+
+  const std::vector<BundleId>& bundles() const { return bundles_; }
+  const std::vector<int32_t>& equalities() const { return equalities_; }
+  const std::vector<int32_t>& rows() const { return rows_; }
+
+  // Appends inequality rows (already in the context's store, over this subproblem's bundles).
+  void AddRows(std::span<const int32_t> rows);
+  // Bundle b moved: its weights and the bounds of its rows must be refreshed before the next solve.
+  void MarkBundleMoved(BundleId b);
+  // Row r changed activity.
+  void MarkRowChanged(int32_t r);
+
+  // false if the LP is infeasible; on success `sheet` holds the solution. Requests that are
+  // infeasible on their face (a root or pinned bundle below its floor) do not reach the solver.
+  absl::StatusOr<bool> Solve(const SheetRequest& request, RationalSheet* sheet);
+  // How many times Solve() actually ran the solver.
+  int64_t solver_calls() const { return solver_calls_; }
+
+  // Whether an integer sheet over these bundles satisfies every consistency row exactly.
+  bool IsConsistent(const IntegerSheet& sheet);
+
+ private:
+  void Build();
+  void AppendRow(std::span<const LinearTerm> terms, double lower, double upper, LpRowBatch* batch);
+  double RowLowerBound(int32_t r) const;
+  void PushRowBounds(int32_t r);
+  void PushWeights(BundleId b);
+  void SetMode(bool allow_inflation, bool allow_deflation);
+  void ResetColumnPair(int32_t local);
+  // How far bundle b may deflate on its own: its value if it has a floor row, else +inf.
+  double DeflationCap(BundleId b) const;
+
+  SheetLpContext* context_;
+  std::vector<BundleId> bundles_;
+  std::vector<int32_t> equalities_;
+  std::vector<int32_t> rows_;
+  std::unique_ptr<SheetLp> lp_;
+
+  std::vector<BundleId> dirty_bundles_;
+  std::vector<uint8_t> bundle_dirty_;  // by local index
+  std::vector<int32_t> dirty_rows_;
+  bool allow_inflation_ = true, allow_deflation_ = true;
+  WeightScheme weights_ = WeightScheme::kTiered;
+  int32_t root_local_ = kNoId;
+  std::vector<int32_t> blocked_locals_;  // column pairs whose bounds a request changed
+  std::vector<int64_t> scratch_delta_;   // by local index, for IsConsistent
+  std::vector<int32_t> columns_;         // scratch for AppendRow
+  std::vector<double> coefs_;
+  int64_t solver_calls_ = 0;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SHEET_SUBPROBLEM_H_

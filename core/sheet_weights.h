@@ -1,0 +1,56 @@
+// The unfavorability weights of the sheet LP objective (paper eq. 3-4, App. A).
+//
+// A sheet that moves an arc by one unit toward its target is cheap (tier 1, weight <= 1/2), one
+// that moves it across its target costs about |A| (tier 2), and one that moves it further away
+// costs at least |A|^2 (tier 3). Each tier outweighs all cheaper tiers combined, so the LP only
+// pays for an unfavorable move when no combination of favorable ones can do the job.
+#ifndef ISPQ_CORE_SHEET_WEIGHTS_H_
+#define ISPQ_CORE_SHEET_WEIGHTS_H_
+
+#include <algorithm>
+#include <span>
+
+namespace ispq {
+
+// Weight of moving one arc by one unit, given epsilon, the signed distance still to go to the
+// target in the direction of the move (eq. 3: l - q when inflating, q - l when deflating).
+inline double SheetWeight(double epsilon, double num_arcs) {
+  if (epsilon >= 1) return 1.0 / (epsilon + 1);
+  if (epsilon >= 0) return num_arcs / (epsilon + 1);
+  return num_arcs * num_arcs * (1 - epsilon);
+}
+
+struct BundleWeights {
+  double inflate;
+  double deflate;
+};
+
+// A bundle's column weights: one bundle variable moves every arc of the bundle, so it pays the
+// sum of its arcs' weights. `targets` are the scaled targets s * l_a of the bundle's arcs and
+// `value` their common current length.
+inline BundleWeights BundleSheetWeights(std::span<const double> targets, double value,
+                                        double num_arcs) {
+  BundleWeights w{0, 0};
+  for (double target : targets) {
+    w.inflate += SheetWeight(target - value, num_arcs);
+    w.deflate += SheetWeight(value - target, num_arcs);
+  }
+  return w;
+}
+
+// Alternative weights: a bundle's exact objective change for one unit of movement, floored at a
+// small positive value so the LP stays bounded. Unlike eq. 4, which only ranks moves by tier,
+// these price the cheap separating sheets by what they really cost.
+inline BundleWeights BundleMarginalWeights(std::span<const double> targets, double value,
+                                           double floor) {
+  BundleWeights w{0, 0};
+  for (double target : targets) {
+    w.inflate += std::max(1 - 2 * (target - value), floor);
+    w.deflate += std::max(1 - 2 * (value - target), floor);
+  }
+  return w;
+}
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SHEET_WEIGHTS_H_

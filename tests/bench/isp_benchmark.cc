@@ -1,0 +1,238 @@
+// The ISP benchmark: every shared T-mesh at all 8 resolution levels, single-threaded, in-process.
+// Writes one TSV row per run and prints a one-screen summary: time (median, max, total),
+// validity, objective ratios to the upstream reference (ISP and exact IQP), lcd statistics, and
+// optionally the effect of mixed-sign sheets and of the reference's separation-search mode.
+//
+//   ispq_bench [--out bench.tsv] [--filter SUBSTRING] [--compare_mixed_sign]
+//              [--compare_reference_search] [--repeat N]
+//
+// Not part of the unit-test run; speed and quality are measured here, never asserted in tests.
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "absl/flags/flag.h"
+#include "absl/flags/parse.h"
+#include "absl/strings/match.h"
+#include "core/quantization_validator.h"
+#include "core/quantizer.h"
+#include "tests/bench/reference_results.h"
+#include "tests/support/test_data.h"
+
+ABSL_FLAG(std::string, out, "bench.tsv", "TSV file with one row per run");
+ABSL_FLAG(std::string, filter, "", "only models whose name contains this");
+ABSL_FLAG(std::string, reference_dir, "", "directory of the reference TSVs (default: shared)");
+ABSL_FLAG(bool, compare_mixed_sign, false, "also run with mixed-sign sheets off and compare");
+ABSL_FLAG(bool, compare_reference_search, false,
+          "also run with the reference's (unsorted block box) separation search and compare");
+ABSL_FLAG(int, repeat, 1, "run each instance this many times and keep the fastest time");
+
+namespace ispq::bench {
+namespace {
+
+struct Run {
+  std::string model;
+  int percent = 0;
+  double scaling = 0;
+  int arcs = 0;
+  QuantizeResult result;
+  double seconds = 0;
+  bool validator_ok = false;  // independent validator call on the returned q
+};
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+Run RunOne(const TMesh& mesh, const std::string& model, const Level& level,
+           const QuantizeOptions& base, int repeat) {
+  Run run;
+  run.model = model;
+  run.percent = level.percent;
+  run.scaling = level.scaling;
+  run.arcs = mesh.num_arcs();
+  QuantizeOptions options = base;
+  options.scaling = level.scaling;
+  run.seconds = 1e300;
+  for (int i = 0; i < repeat; ++i) {
+    absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+    if (!result.ok()) {
+      std::cerr << model << " @" << level.percent << "%: " << result.status() << "\n";
+      run.seconds = 0;
+      return run;
+    }
+    run.seconds = std::min(run.seconds, result->stats.solve_seconds);
+    run.result = *std::move(result);
+  }
+  ValidationOptions validation;
+  validation.search = options.separation;
+  const absl::StatusOr<ValidationReport> report =
+      ValidateQuantization(mesh, run.result.q, validation);
+  run.validator_ok = report.ok() && report->valid();
+  return run;
+}
+
+// Runs every model at every level with `options`.
+std::vector<Run> RunAll(const std::vector<std::string>& files, const QuantizeOptions& options,
+                        int repeat) {
+  std::vector<Run> runs;
+  for (const std::string& file : files) {
+    const TMesh mesh = testing::LoadTMeshOrDie(file);
+    const std::string model = testing::ShortName(file);
+    for (const Level& level : mesh.levels())
+      runs.push_back(RunOne(mesh, model, level, options, repeat));
+  }
+  return runs;
+}
+
+void WriteTsv(const std::string& path, const std::vector<Run>& runs,
+              const ReferenceResults& reference) {
+  std::ofstream out(path);
+  out << "model\tlevel\tscaling\tarcs\ttime_s\tobjective\thexes\tlp_solves\tsep_rounds\tsep_rows"
+         "\tvalid\tref_time_s\tref_objective\tiqp_objective\n";
+  for (const Run& r : runs) {
+    const auto ref = reference.Isp(r.model, r.percent);
+    const auto iqp = reference.Iqp(r.model, r.percent);
+    out << r.model << "\t" << r.percent << "\t" << r.scaling << "\t" << r.arcs << "\t" << r.seconds
+        << "\t" << r.result.objective << "\t" << r.result.hexes << "\t" << r.result.stats.lp_solves
+        << "\t" << r.result.stats.separation_rounds << "\t" << r.result.stats.separation_rows
+        << "\t" << (r.result.valid && r.validator_ok ? "yes" : "no") << "\t"
+        << (ref ? std::to_string(ref->seconds) : "") << "\t"
+        << (ref ? std::to_string(ref->objective) : "") << "\t"
+        << (iqp ? std::to_string(iqp->objective) : "") << "\n";
+  }
+}
+
+// Objective ratio that tolerates zero objectives on both sides.
+double Ratio(double ours, double theirs) {
+  if (theirs <= 1e-9) return ours <= 1e-9 ? 1.0 : ours / 1e-9;
+  return ours / theirs;
+}
+
+void PrintSummary(const std::vector<Run>& runs, const ReferenceResults& reference) {
+  std::vector<double> times, ref_times;
+  int valid = 0;
+  QuantizeStats total;
+  for (const Run& r : runs) {
+    times.push_back(r.seconds);
+    valid += r.result.valid && r.validator_ok;
+    total.lcd_one += r.result.stats.lcd_one;
+    total.lcd_two += r.result.stats.lcd_two;
+    total.lcd_more += r.result.stats.lcd_more;
+    total.lp_solves += r.result.stats.lp_solves;
+    if (auto ref = reference.Isp(r.model, r.percent)) ref_times.push_back(ref->seconds);
+  }
+  const double sum = std::accumulate(times.begin(), times.end(), 0.0);
+  const double ref_sum = std::accumulate(ref_times.begin(), ref_times.end(), 0.0);
+  std::printf("runs %zu, valid %d, invalid %zu\n", runs.size(), valid, runs.size() - valid);
+  std::printf(
+      "time: median %.4f s, max %.4f s, total %.2f s   (reference: median %.4f s, total %.2f "
+      "s)\n",
+      Median(times), times.empty() ? 0 : *std::max_element(times.begin(), times.end()), sum,
+      Median(ref_times), ref_sum);
+  std::printf("LP solves %lld; lcd of rational LP solutions: 1: %lld, 2: %lld, >2: %lld\n",
+              static_cast<long long>(total.lp_solves), static_cast<long long>(total.lcd_one),
+              static_cast<long long>(total.lcd_two), static_cast<long long>(total.lcd_more));
+  std::printf("\n%-6s %5s %12s %12s %12s %6s %6s %10s\n", "level", "runs", "mean ratio",
+              "sum ratio", "vs IQP", "better", "worse", "median s");
+  for (int percent : {0, 1, 5, 10, 17, 25, 50, 100}) {
+    std::vector<double> ratios, level_times, iqp_ratios;
+    double ours_sum = 0, ref_sum_level = 0;
+    int better = 0, worse = 0;
+    for (const Run& r : runs) {
+      if (r.percent != percent) continue;
+      level_times.push_back(r.seconds);
+      if (auto ref = reference.Isp(r.model, percent)) {
+        ratios.push_back(Ratio(r.result.objective, ref->objective));
+        ours_sum += r.result.objective;
+        ref_sum_level += ref->objective;
+        better += r.result.objective < ref->objective * (1 - 1e-6) - 1e-9;
+        worse += r.result.objective > ref->objective * (1 + 1e-6) + 1e-9;
+      }
+      if (auto iqp = reference.Iqp(r.model, percent))
+        iqp_ratios.push_back(Ratio(r.result.objective, iqp->objective));
+    }
+    if (level_times.empty()) continue;
+    const double mean =
+        ratios.empty() ? 0 : std::accumulate(ratios.begin(), ratios.end(), 0.0) / ratios.size();
+    const double iqp_mean =
+        iqp_ratios.empty()
+            ? 0
+            : std::accumulate(iqp_ratios.begin(), iqp_ratios.end(), 0.0) / iqp_ratios.size();
+    std::printf("%-6d %5zu %12.4f %12.4f %12s %6d %6d %10.4f\n", percent, level_times.size(), mean,
+                ref_sum_level > 0 ? ours_sum / ref_sum_level : 0.0,
+                iqp_ratios.empty() ? "-" : std::to_string(iqp_mean).c_str(), better, worse,
+                Median(level_times));
+  }
+}
+
+// Counts instances where variant A's objective is lower than B's by more than `margin`.
+void PrintComparison(const char* name_a, const std::vector<Run>& a, const char* name_b,
+                     const std::vector<Run>& b) {
+  int a_better = 0, b_better = 0, a_much_better = 0, n = 0;
+  double best_factor = 1;
+  for (size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    if (!(a[i].result.valid && b[i].result.valid)) continue;
+    ++n;
+    const double oa = a[i].result.objective, ob = b[i].result.objective;
+    a_better += oa < ob * (1 - 1e-6);
+    b_better += ob < oa * (1 - 1e-6);
+    a_much_better += oa < ob * 0.95;
+    if (oa > 1e-9) best_factor = std::max(best_factor, ob / oa);
+  }
+  std::printf(
+      "\n%s vs %s over %d valid pairs: %s better in %d (by >5%%: %d), worse in %d; "
+      "best-case factor %.2f\n",
+      name_a, name_b, n, name_a, a_better, a_much_better, b_better, best_factor);
+}
+
+}  // namespace
+}  // namespace ispq::bench
+
+int main(int argc, char** argv) {
+  absl::ParseCommandLine(argc, argv);
+  using namespace ispq;
+  std::vector<std::string> files;
+  for (const std::string& f : testing::SharedTMeshFiles()) {
+    if (absl::StrContains(f, absl::GetFlag(FLAGS_filter))) files.push_back(f);
+  }
+  if (files.empty()) {
+    std::cerr << "no T-meshes found under " << testing::SharedTMeshDir() << "\n";
+    return 1;
+  }
+  std::string reference_dir = absl::GetFlag(FLAGS_reference_dir);
+  if (reference_dir.empty()) reference_dir = testing::SharedTMeshDir() + "/../../reference";
+  const bench::ReferenceResults reference = bench::ReferenceResults::Load(reference_dir);
+  const int repeat = std::max(1, absl::GetFlag(FLAGS_repeat));
+
+  const std::vector<bench::Run> runs = bench::RunAll(files, QuantizeOptions{}, repeat);
+  bench::WriteTsv(absl::GetFlag(FLAGS_out), runs, reference);
+  bench::PrintSummary(runs, reference);
+  if (absl::GetFlag(FLAGS_compare_mixed_sign)) {
+    QuantizeOptions uniform;
+    uniform.mixed_sign = false;
+    bench::PrintComparison("mixed-sign", runs, "uniform-sign", bench::RunAll(files, uniform, 1));
+  }
+  if (absl::GetFlag(FLAGS_compare_reference_search)) {
+    QuantizeOptions compat;
+    compat.separation.block_box = BlockBoxMode::kReferenceUnsorted;
+    const std::vector<bench::Run> compat_runs = bench::RunAll(files, compat, 1);
+    int64_t rows_sorted = 0, rows_compat = 0;
+    for (const auto& r : runs) rows_sorted += r.result.stats.separation_rows;
+    for (const auto& r : compat_runs) rows_compat += r.result.stats.separation_rows;
+    std::printf("\nseparation rows found: sorted block boxes %lld, reference mode %lld\n",
+                static_cast<long long>(rows_sorted), static_cast<long long>(rows_compat));
+    bench::PrintComparison("sorted boxes", runs, "reference boxes", compat_runs);
+  }
+  int invalid = 0;
+  for (const auto& r : runs) invalid += !(r.result.valid && r.validator_ok);
+  return invalid == 0 ? 0 : 1;
+}

@@ -1,0 +1,365 @@
+// Quantize() on the real shared T-meshes: every result at every level is checked by the
+// validator, plus the contract around options, observers, interruption and time limits.
+#include "core/quantizer.h"
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "core/block_extents.h"
+#include "core/quantization_validator.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/support/test_data.h"
+
+namespace ispq {
+namespace {
+
+using ::ispq::testing::BundledSample;
+using ::ispq::testing::LoadTMeshOrDie;
+using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::ShortName;
+
+double Objective(const TMesh& mesh, double scaling, const std::vector<int64_t>& q) {
+  double sum = 0;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    sum += std::pow(static_cast<double>(q[a]) - scaling * mesh.arc_length(a), 2);
+  }
+  return sum;
+}
+
+// Checks a converged result against the validator and recomputes what it reports.
+void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
+                       const QuantizeResult& result, const std::string& context) {
+  EXPECT_EQ(result.termination, Termination::kConverged) << context;
+  EXPECT_TRUE(result.valid) << context;
+  ASSERT_EQ(result.q.size(), static_cast<size_t>(mesh.num_arcs())) << context;
+  ValidationOptions validation;
+  validation.search = options.separation;
+  if (options.per_arc_nonnegative) validation.per_arc_lower_bound = 0;
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result.q, validation);
+  ASSERT_TRUE(report.ok()) << context << ": " << report.status();
+  EXPECT_TRUE(report->valid()) << context << ":\n" << report->Describe();
+  EXPECT_NEAR(result.objective, Objective(mesh, options.scaling, result.q),
+              1e-9 * (1 + result.objective))
+      << context;
+  EXPECT_EQ(result.hexes, HexCount(mesh, result.q)) << context;
+  EXPECT_GT(result.stats.lp_solves, 0) << context;
+  EXPECT_EQ(result.stats.lcd_one + result.stats.lcd_two + result.stats.lcd_more > 0,
+            result.stats.lp_solves > 0)
+      << context;
+}
+
+TEST(QuantizerTest, SharedDataIsPresent) { EXPECT_FALSE(SharedTMeshFiles().empty()); }
+
+// Every shared mesh at all eight levels (the whole set takes seconds in Release).
+class QuantizerSharedMeshTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(QuantizerSharedMeshTest, EveryLevelGivesAValidResult) {
+  const TMesh mesh = LoadTMeshOrDie(GetParam());
+  ASSERT_EQ(mesh.levels().size(), 8u);
+  for (const Level& level : mesh.levels()) {
+    QuantizeOptions options;
+    options.scaling = level.scaling;
+    const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+    const std::string context =
+        ShortName(GetParam()) + " at " + std::to_string(level.percent) + "%";
+    ASSERT_TRUE(result.ok()) << context << ": " << result.status();
+    ExpectValidResult(mesh, options, *result, context);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(SharedMeshes, QuantizerSharedMeshTest,
+                         ::testing::ValuesIn(SharedTMeshFiles()), [](const auto& info) {
+                           std::string name = ShortName(info.param);
+                           for (char& c : name) {
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           }
+                           return name;
+                         });
+
+// The single cube: every arc becomes 1 at every level (the reference's objective is 3).
+TEST(QuantizerTest, CubeGetsOneOnEveryArc) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  for (const Level& level : cube.levels()) {
+    QuantizeOptions options;
+    options.scaling = level.scaling;
+    const absl::StatusOr<QuantizeResult> result = Quantize(cube, options);
+    ASSERT_TRUE(result.ok()) << result.status();
+    EXPECT_EQ(result->q, std::vector<int64_t>(12, 1)) << level.percent;
+    EXPECT_EQ(result->hexes, 1);
+    EXPECT_NEAR(result->objective, 3.0, 0.01) << level.percent;
+    ExpectValidResult(cube, options, *result, "cube");
+  }
+}
+
+const std::vector<std::string>& SwitchMeshes() {
+  static const auto* const kMeshes = new std::vector<std::string>{
+      BundledSample("s04u_tetrahedron.tmesh.json"), BundledSample("s07c_notch.tmesh.json"),
+      BundledSample("fanpart.tmesh.json")};
+  return *kMeshes;
+}
+
+TEST(QuantizerTest, UniformSignSheetsGiveValidResultsWithoutMixedSheets) {
+  for (const std::string& path : SwitchMeshes()) {
+    const TMesh mesh = LoadTMeshOrDie(path);
+    for (const Level& level : mesh.levels()) {
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      options.mixed_sign = false;
+      const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+      ASSERT_TRUE(result.ok()) << result.status();
+      ExpectValidResult(mesh, options, *result, ShortName(path));
+      EXPECT_EQ(result->stats.sheets_mixed, 0);
+    }
+  }
+}
+
+TEST(QuantizerTest, MixedSignSheetsAreUsedAndLowerTheTotalObjective) {
+  int64_t mixed = 0;
+  double with = 0, without = 0;
+  const std::vector<std::string> files = SharedTMeshFiles();
+  for (size_t i = 0; i < files.size(); i += 3) {  // a third of the set is plenty
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const Level& level = mesh.levels()[3];
+    QuantizeOptions options;
+    options.scaling = level.scaling;
+    const absl::StatusOr<QuantizeResult> on = Quantize(mesh, options);
+    options.mixed_sign = false;
+    const absl::StatusOr<QuantizeResult> off = Quantize(mesh, options);
+    ASSERT_TRUE(on.ok() && off.ok());
+    mixed += on->stats.sheets_mixed;
+    with += on->objective;
+    without += off->objective;
+  }
+  EXPECT_GT(mixed, 0);
+  EXPECT_LT(with, without);  // paper section 5.1: mixed-sign sheets escape local minima
+}
+
+TEST(QuantizerTest, WithoutDecompositionOneSubproblemGivesValidResults) {
+  for (const std::string& path : SwitchMeshes()) {
+    const TMesh mesh = LoadTMeshOrDie(path);
+    for (const Level& level : mesh.levels()) {
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      options.decompose = false;
+      const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+      ASSERT_TRUE(result.ok()) << result.status();
+      ExpectValidResult(mesh, options, *result, ShortName(path));
+      EXPECT_EQ(result->stats.subproblems, 1);
+    }
+  }
+}
+
+TEST(QuantizerTest, DecompositionSplitsIntoSeveralSubproblems) {
+  // The shared set has meshes whose sheet LP falls apart into independent pieces (section 4.4).
+  int32_t most = 0;
+  for (const std::string& path : SharedTMeshFiles()) {
+    const TMesh mesh = LoadTMeshOrDie(path);
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[0].scaling;
+    const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+    ASSERT_TRUE(result.ok());
+    most = std::max(most, result->stats.subproblems);
+    if (most > 1) break;
+  }
+  EXPECT_GT(most, 1);
+}
+
+TEST(QuantizerTest, PerArcNonNegativityKeepsEveryArcNonNegative) {
+  for (const std::string& path : SwitchMeshes()) {
+    const TMesh mesh = LoadTMeshOrDie(path);
+    for (const Level& level : mesh.levels()) {
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      options.per_arc_nonnegative = true;
+      const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+      ASSERT_TRUE(result.ok()) << result.status();
+      ExpectValidResult(mesh, options, *result, ShortName(path));
+      for (int64_t x : result->q) EXPECT_GE(x, 0);
+    }
+  }
+}
+
+TEST(QuantizerTest, ReferenceSearchModeGivesResultsValidInThatMode) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s04u_tetrahedron.tmesh.json"));
+  for (const Level& level : mesh.levels()) {
+    QuantizeOptions options;
+    options.scaling = level.scaling;
+    options.separation.block_box = BlockBoxMode::kReferenceUnsorted;
+    const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+    ASSERT_TRUE(result.ok()) << result.status();
+    ExpectValidResult(mesh, options, *result, "reference mode");
+  }
+}
+
+TEST(QuantizerTest, IsDeterministic) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  const absl::StatusOr<QuantizeResult> first = Quantize(mesh, options);
+  const absl::StatusOr<QuantizeResult> second = Quantize(mesh, options);
+  ASSERT_TRUE(first.ok() && second.ok());
+  EXPECT_EQ(first->q, second->q);
+  EXPECT_EQ(first->stats.lp_solves, second->stats.lp_solves);
+}
+
+TEST(QuantizerTest, RejectsBadOptions) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  for (double scaling : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(),
+                         std::numeric_limits<double>::infinity()}) {
+    QuantizeOptions options;
+    options.scaling = scaling;
+    EXPECT_EQ(Quantize(cube, options).status().code(), absl::StatusCode::kInvalidArgument)
+        << scaling;
+  }
+  for (double limit : {-1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    QuantizeOptions options;
+    options.time_limit_seconds = limit;
+    EXPECT_EQ(Quantize(cube, options).status().code(), absl::StatusCode::kInvalidArgument) << limit;
+  }
+}
+
+// Records events; optionally interrupts once a condition holds.
+class RecordingObserver : public ProgressObserver {
+ public:
+  RecordingObserver(SolveInterrupter* interrupter, bool wants_q, bool interrupt_when_separating)
+      : interrupter_(interrupter),
+        wants_q_(wants_q),
+        interrupt_when_separating_(interrupt_when_separating) {}
+
+  void OnProgress(const ProgressEvent& event) override {
+    events_.push_back(event);
+    q_sizes_.push_back(event.q.size());
+    if (interrupter_ != nullptr && (!interrupt_when_separating_ || event.separating)) {
+      interrupter_->Interrupt();
+    }
+  }
+  bool WantsQuantization() const override { return wants_q_; }
+
+  const std::vector<ProgressEvent>& events() const { return events_; }
+  const std::vector<size_t>& q_sizes() const { return q_sizes_; }
+
+ private:
+  SolveInterrupter* interrupter_;
+  bool wants_q_;
+  bool interrupt_when_separating_;
+  std::vector<ProgressEvent> events_;
+  std::vector<size_t> q_sizes_;
+};
+
+TEST(QuantizerTest, ObserverSeesAMonotoneRunAndQOnlyOnRequest) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[4].scaling;
+  for (const bool wants_q : {false, true}) {
+    RecordingObserver observer(nullptr, wants_q, false);
+    const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &observer);
+    ASSERT_TRUE(result.ok());
+    ASSERT_FALSE(observer.events().empty());
+    bool saw_separation_round = false, saw_separating = false;
+    for (size_t i = 0; i < observer.events().size(); ++i) {
+      const ProgressEvent& e = observer.events()[i];
+      EXPECT_EQ(observer.q_sizes()[i], wants_q ? static_cast<size_t>(mesh.num_arcs()) : 0u);
+      if (i > 0) {
+        EXPECT_GE(e.iteration, observer.events()[i - 1].iteration);
+        EXPECT_GE(e.separation_round, observer.events()[i - 1].separation_round);
+        EXPECT_GE(e.elapsed_seconds, observer.events()[i - 1].elapsed_seconds);
+      }
+      if (e.separating) {
+        EXPECT_EQ(e.violated_constraints, 0);
+      }
+      saw_separation_round |= e.phase == QuantizationPhase::kSeparation;
+      saw_separating |= e.separating;
+    }
+    EXPECT_TRUE(saw_separation_round);
+    EXPECT_TRUE(saw_separating);
+    EXPECT_EQ(observer.events().back().iteration, result->stats.sheets_inflating +
+                                                      result->stats.sheets_deflating +
+                                                      result->stats.sheets_mixed);
+  }
+}
+
+TEST(QuantizerTest, InterruptAtTheFirstEventStopsBeforeAnyValidQ) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[2].scaling;
+  SolveInterrupter interrupter;
+  RecordingObserver observer(&interrupter, false, /*interrupt_when_separating=*/false);
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &observer, &interrupter);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->termination, Termination::kInterrupted);
+  EXPECT_EQ(observer.events().size(), 1u);
+  ASSERT_EQ(result->q.size(), static_cast<size_t>(mesh.num_arcs()));
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result->q);
+  ASSERT_TRUE(report.ok());
+  EXPECT_EQ(result->valid, report->valid());
+}
+
+TEST(QuantizerTest, InterruptOnceSeparatingReturnsThatValidQ) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[2].scaling;
+  SolveInterrupter interrupter;
+  RecordingObserver observer(&interrupter, true, /*interrupt_when_separating=*/true);
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &observer, &interrupter);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->termination, Termination::kInterrupted);
+  EXPECT_TRUE(result->valid);
+  const ProgressEvent& last = observer.events().back();
+  EXPECT_TRUE(last.separating);
+  EXPECT_NEAR(result->objective, last.objective, 1e-6 * (1 + last.objective));
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result->q);
+  ASSERT_TRUE(report.ok());
+  EXPECT_TRUE(report->valid()) << report->Describe();
+}
+
+TEST(QuantizerTest, InterruptedBeforeTheStartReturnsTheInvalidStart) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[0].scaling;
+  SolveInterrupter interrupter;
+  interrupter.Interrupt();
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, nullptr, &interrupter);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->termination, Termination::kInterrupted);
+  EXPECT_FALSE(result->valid);
+  EXPECT_EQ(result->q, std::vector<int64_t>(mesh.num_arcs(), 0));
+  EXPECT_EQ(result->stats.lp_solves, 0);
+}
+
+TEST(QuantizerTest, ZeroTimeLimitStopsAtOnce) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[0].scaling;
+  options.time_limit_seconds = 0;
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->termination, Termination::kTimeLimit);
+  EXPECT_FALSE(result->valid);
+}
+
+TEST(QuantizerTest, GenerousTimeLimitConverges) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[0].scaling;
+  options.time_limit_seconds = 3600;
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  ExpectValidResult(mesh, options, *result, "prism");
+}
+
+TEST(QuantizerTest, NamesAreStable) {
+  EXPECT_STREQ(TerminationName(Termination::kConverged), "converged");
+  EXPECT_STREQ(TerminationName(Termination::kTimeLimit), "time_limit");
+  EXPECT_STREQ(TerminationName(Termination::kInterrupted), "interrupted");
+  EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kGreedy), "greedy");
+  EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kSeparation), "separation");
+  EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kFailsafe), "failsafe");
+  EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kFinal), "final");
+}
+
+}  // namespace
+}  // namespace ispq

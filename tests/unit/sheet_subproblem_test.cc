@@ -1,0 +1,228 @@
+// The per-subproblem sheet LP: a sheet on a single cube, floors, separating (self-inflating)
+// solves, and the half-integral U-turn of the paper's Figs. 6 and 7.
+#include "core/sheet_subproblem.h"
+
+#include <memory>
+#include <vector>
+
+#include "core/arc_bundles.h"
+#include "core/block_extents.h"
+#include "core/bundle_quantization.h"
+#include "core/clp_sheet_lp.h"
+#include "core/consistency_matrix.h"
+#include "core/inequality_rows.h"
+#include "core/lcd_scaling.h"
+#include "gmock/gmock.h"
+#include "gtest/gtest.h"
+#include "tests/support/grid_tmesh_builder.h"
+#include "tests/support/test_data.h"
+
+namespace ispq {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::Optional;
+
+// Everything one subproblem LP over a whole mesh needs, wired as the quantizer wires it.
+class SheetLpFixture {
+ public:
+  SheetLpFixture(const TMesh& mesh, double scaling, bool extent_rows)
+      : consistency_(mesh),
+        bundles_(mesh, consistency_),
+        x_(mesh, bundles_, scaling),
+        rows_(bundles_.num_bundles()) {
+    std::vector<int32_t> equalities;
+    for (int r = 0; r < consistency_.num_rows(); ++r) {
+      const std::vector<LinearTerm> terms = bundles_.ToBundleTerms(consistency_.row(r));
+      if (terms.empty()) continue;
+      equalities.push_back(equalities_.size());
+      equalities_.Append(terms);
+    }
+    context_.quantization = &x_;
+    context_.rows = &rows_;
+    context_.equalities = &equalities_;
+    context_.num_arcs = mesh.num_arcs();
+    context_.new_lp = [](int columns) { return NewClpSheetLp(columns); };
+    context_.local_index_of_bundle.assign(bundles_.num_bundles(), kNoId);
+    context_.has_floor.assign(bundles_.num_bundles(), 0);
+    std::vector<int32_t> row_ids;
+    if (extent_rows) {
+      for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+        for (int axis = 0; axis < 3; ++axis) {
+          std::vector<LinearTerm> arc_terms;
+          for (ArcId a : ExtentRowArcs(mesh, b, axis)) arc_terms.push_back({a, 1});
+          const std::vector<LinearTerm> terms = bundles_.ToBundleTerms(arc_terms);
+          if (rows_.Find(terms, 0) != kNoId) continue;
+          row_ids.push_back(AddRow(terms, 0, true));
+          if (terms.size() == 1) context_.has_floor[terms[0].var] = 1;
+        }
+      }
+    }
+    std::vector<BundleId> all(bundles_.num_bundles());
+    for (BundleId b = 0; b < bundles_.num_bundles(); ++b) all[b] = b;
+    lp_ = std::make_unique<SheetSubproblem>(&context_, all, equalities, row_ids);
+  }
+
+  int32_t AddRow(const std::vector<LinearTerm>& terms, int64_t rhs, bool active) {
+    context_.lp_row_of_row.push_back(kNoId);
+    return rows_.Add(terms, rhs, RowOrigin::kStructural, active, x_.values());
+  }
+  // Moves bundles as the driver does: values, row values, LP bookkeeping.
+  void Apply(const IntegerSheet& sheet) {
+    x_.Apply(sheet, 1);
+    for (size_t i = 0; i < sheet.bundles.size(); ++i) {
+      rows_.OnBundleMoved(sheet.bundles[i], sheet.deltas[i]);
+      lp_->MarkBundleMoved(sheet.bundles[i]);
+    }
+  }
+
+  const ArcBundles& bundles() const { return bundles_; }
+  const FlatLists<LinearTerm>& equalities() const { return equalities_; }
+  SheetSubproblem& lp() { return *lp_; }
+  InequalityRows& rows() { return rows_; }
+
+ private:
+  ConsistencyMatrix consistency_;
+  ArcBundles bundles_;
+  BundleQuantization x_;
+  InequalityRows rows_;
+  FlatLists<LinearTerm> equalities_;
+  SheetLpContext context_;
+  std::unique_ptr<SheetSubproblem> lp_;
+};
+
+SheetRequest Pump(BundleId root, bool inflate) {
+  SheetRequest request;
+  request.root = root;
+  request.inflate_root = inflate;
+  return request;
+}
+
+TEST(SheetSubproblemTest, SheetOnASingleCubeIsOneAxisLayer) {
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  ASSERT_EQ(fixture.bundles().num_bundles(), 3);
+  for (BundleId root = 0; root < 3; ++root) {
+    RationalSheet sheet;
+    const absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(root, true), &sheet);
+    ASSERT_TRUE(feasible.ok()) << feasible.status();
+    ASSERT_TRUE(*feasible);
+    EXPECT_THAT(sheet.bundles, ElementsAre(root));
+    EXPECT_THAT(sheet.values, ElementsAre(::testing::DoubleNear(1, 1e-9)));
+  }
+}
+
+TEST(SheetSubproblemTest, FloorsBlockDeflationBelowZeroWithoutTheSolver) {
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  RationalSheet sheet;
+  const int64_t calls = fixture.lp().solver_calls();
+  absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(1, false), &sheet);
+  ASSERT_TRUE(feasible.ok());
+  EXPECT_FALSE(*feasible);
+  EXPECT_EQ(fixture.lp().solver_calls(), calls);
+
+  IntegerSheet up;
+  up.bundles = {1};
+  up.deltas = {2};
+  fixture.Apply(up);
+  feasible = fixture.lp().Solve(Pump(1, false), &sheet);
+  ASSERT_TRUE(feasible.ok());
+  ASSERT_TRUE(*feasible);
+  EXPECT_THAT(sheet.bundles, ElementsAre(1));
+  EXPECT_THAT(sheet.values, ElementsAre(::testing::DoubleNear(-1, 1e-9)));
+}
+
+TEST(SheetSubproblemTest, ExtentRowsBoundDeflationThroughTheSolverToo) {
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/false);
+  // Without C rows nothing stops a deflation below 0...
+  RationalSheet sheet;
+  absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(0, false), &sheet);
+  ASSERT_TRUE(feasible.ok());
+  EXPECT_TRUE(*feasible);
+  // ...until a row x_0 >= 0 is appended.
+  const int32_t r = fixture.AddRow({{0, 1}}, 0, true);
+  const std::vector<int32_t> added = {r};
+  fixture.lp().AddRows(added);
+  feasible = fixture.lp().Solve(Pump(0, false), &sheet);
+  ASSERT_TRUE(feasible.ok());
+  EXPECT_FALSE(*feasible);
+}
+
+TEST(SheetSubproblemTest, ViolatedRowsInflateASeparatingSheet) {
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  // x_0 + x_2 >= 1 and x_2 - x_1 >= 1 at q = 0: the cheapest fix inflates bundle 2 alone.
+  const std::vector<int32_t> added = {fixture.AddRow({{0, 1}, {2, 1}}, 1, true),
+                                      fixture.AddRow({{1, -1}, {2, 1}}, 1, true)};
+  fixture.lp().AddRows(added);
+  EXPECT_EQ(fixture.rows().num_violated_active(), 2);
+  RationalSheet sheet;
+  SheetRequest request;  // no root: the rows pump the sheet
+  const absl::StatusOr<bool> feasible = fixture.lp().Solve(request, &sheet);
+  ASSERT_TRUE(feasible.ok());
+  ASSERT_TRUE(*feasible);
+  EXPECT_THAT(sheet.bundles, ElementsAre(2));
+  EXPECT_THAT(sheet.values, ElementsAre(::testing::DoubleNear(1, 1e-9)));
+  // Once it is applied nothing is violated and the LP has nothing to do.
+  IntegerSheet sheet2;
+  sheet2.bundles = {2};
+  sheet2.deltas = {1};
+  fixture.Apply(sheet2);
+  EXPECT_EQ(fixture.rows().num_violated_active(), 0);
+  const absl::StatusOr<bool> again = fixture.lp().Solve(request, &sheet);
+  ASSERT_TRUE(again.ok());
+  ASSERT_TRUE(*again);
+  EXPECT_TRUE(sheet.bundles.empty());
+}
+
+TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
+  // The notch has T-junctions, hence consistency rows that bundling does not eliminate.
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  SheetLpFixture fixture(mesh, 0.2, /*extent_rows=*/true);
+  RationalSheet rational;
+  const absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(0, true), &rational);
+  ASSERT_TRUE(feasible.ok());
+  ASSERT_TRUE(*feasible);
+  const std::optional<int64_t> lcd = LeastCommonDenominator(rational.values);
+  ASSERT_TRUE(lcd.has_value());
+  IntegerSheet sheet;
+  sheet.bundles = rational.bundles;
+  sheet.deltas = ScaleToIntegers(rational.values, *lcd);
+  EXPECT_TRUE(fixture.lp().IsConsistent(sheet));
+  // One bundle of a consistency row moving alone breaks that row.
+  ASSERT_GT(fixture.equalities().size(), 0);
+  IntegerSheet alone;
+  alone.bundles = {fixture.equalities()[0][0].var};
+  alone.deltas = {1};
+  EXPECT_FALSE(fixture.lp().IsConsistent(alone));
+}
+
+// Paper Figs. 6/7: forcing the root through a U-turn of T-junctions yields halves.
+TEST(SheetSubproblemTest, UTurnOfTJunctionsGivesAHalfIntegralSheet) {
+  const testing::HalfIntegerSheetExample example = testing::MakeHalfIntegerSheetExample();
+  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(example.spec);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  SheetLpFixture fixture(mesh, 1.0, /*extent_rows=*/true);
+  const ArcId root_arc = grid->ArcBetween(example.root.first, example.root.second);
+  ASSERT_GE(root_arc, 0);
+  SheetRequest request = Pump(fixture.bundles().bundle_of(root_arc), true);
+  request.allow_deflation = false;  // eq. 2: Delta q >= 0
+  RationalSheet sheet;
+  const absl::StatusOr<bool> feasible = fixture.lp().Solve(request, &sheet);
+  ASSERT_TRUE(feasible.ok()) << feasible.status();
+  ASSERT_TRUE(*feasible);
+  EXPECT_THAT(LeastCommonDenominator(sheet.values), Optional(2));
+  // Every half-arc of the example carries 1/2.
+  for (const auto& [from, to] : example.half_arcs) {
+    const BundleId b = fixture.bundles().bundle_of(grid->ArcBetween(from, to));
+    const auto it = std::find(sheet.bundles.begin(), sheet.bundles.end(), b);
+    ASSERT_NE(it, sheet.bundles.end());
+    EXPECT_NEAR(sheet.values[it - sheet.bundles.begin()], 0.5, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace ispq
