@@ -8,6 +8,7 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   coinor-libclp-dev libabsl-dev libspdlog-dev libgtest-dev libgmock-dev
   python3
+  openssl  # the service's TLS integration tests make their certificates with it
 )
 
 missing=()

@@ -1,0 +1,83 @@
+#include "client/validate_command.h"
+
+#include <iostream>
+
+#include "absl/strings/str_split.h"
+#include "client/exit_codes.h"
+#include "client/result_output.h"
+#include "core/block_extents.h"
+#include "core/quantization_proto.h"
+#include "core/quantization_validator.h"
+#include "core/tmesh_file.h"
+#include "core/tmesh_from_proto.h"
+#include "google/protobuf/util/json_util.h"
+
+namespace ispq::cli {
+
+int RunValidate(const ValidateCommandOptions& options) {
+  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(options.mesh_path);
+  if (!proto.ok()) {
+    std::cerr << "ispq: " << proto.status().message() << "\n";
+    return kExitInvalidInput;
+  }
+  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
+  if (!mesh.ok()) {
+    std::cerr << "ispq: " << options.mesh_path << ": " << mesh.status().message() << "\n";
+    return kExitInvalidInput;
+  }
+  absl::StatusOr<v1::QuantizationResult> result = ReadResultFile(options.result_path);
+  if (!result.ok()) {
+    std::cerr << "ispq: " << result.status().message() << "\n";
+    return kExitInvalidInput;
+  }
+  absl::StatusOr<std::vector<int64_t>> q = QuantizationFromProto(*result, *mesh);
+  if (!q.ok()) {
+    std::cerr << "ispq: " << options.result_path << ": " << q.status().message() << "\n";
+    return kExitInvalidInput;
+  }
+  absl::StatusOr<double> scaling = ResolveScaling(options.scaling, *mesh);
+  if (!scaling.ok()) {
+    std::cerr << "ispq: " << scaling.status().message() << "\n";
+    return kExitUsage;
+  }
+  ValidationOptions validation;
+  validation.search.block_box =
+      options.reference_block_boxes ? BlockBoxMode::kReferenceUnsorted : BlockBoxMode::kSorted;
+  absl::StatusOr<ValidationReport> report = ValidateQuantization(*mesh, *q, validation);
+  if (!report.ok()) {
+    std::cerr << "ispq: " << report.status().message() << "\n";
+    return kExitFailed;
+  }
+  double objective = 0;
+  for (ArcId a = 0; a < mesh->num_arcs(); ++a) {
+    const double d = static_cast<double>((*q)[a]) - *scaling * mesh->arc_length(a);
+    objective += d * d;
+  }
+  const bool valid = report->valid();
+  if (options.json) {
+    v1::ValidationVerdict verdict;
+    verdict.set_valid(valid);
+    verdict.set_objective(objective);
+    verdict.set_hexes(valid ? HexCount(*mesh, *q) : 0);
+    verdict.set_consistency_violations(static_cast<int32_t>(report->consistency.size()));
+    verdict.set_simple_violations(static_cast<int32_t>(report->simple.size()));
+    verdict.set_separation_violations(static_cast<int32_t>(report->separation.size()));
+    verdict.set_separation_checked(report->separation_checked);
+    for (absl::string_view line : absl::StrSplit(report->Describe(), '\n', absl::SkipEmpty())) {
+      verdict.add_problems(std::string(line));
+    }
+    google::protobuf::util::JsonPrintOptions print;
+    print.always_print_primitive_fields = true;
+    std::string json;
+    (void)google::protobuf::util::MessageToJsonString(verdict, &json, print);
+    std::cout << json << "\n";
+  } else {
+    std::cout << (valid ? "valid" : "NOT valid") << ": objective " << objective;
+    if (valid) std::cout << ", " << HexCount(*mesh, *q) << " hexes";
+    std::cout << "\n";
+    if (!valid) std::cout << report->Describe();
+  }
+  return valid ? kExitOk : kExitInvalidResult;
+}
+
+}  // namespace ispq::cli

@@ -1,0 +1,127 @@
+// One quantization job: its immutable specification, its state machine and its event log.
+//
+// States: QUEUED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED, or QUEUED -> FAILED | CANCELLED
+// for a job that never ran. A job is shared (std::shared_ptr) by the job store, the queue, the
+// worker that runs it and the streams that watch it; it lives as long as the longest of them.
+// All mutable state is guarded by one mutex. Watchers are notified after every event with the
+// mutex released, so that a watcher may read the job from its notification.
+//
+// Memory: a job lets go of its mesh when it ends (only the worker reads it, and only while it
+// runs), so the finished jobs the store retains hold their result and a few events, no mesh.
+#ifndef ISPQ_SERVER_JOB_H_
+#define ISPQ_SERVER_JOB_H_
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/status/status.h"
+#include "absl/synchronization/mutex.h"
+#include "absl/time/time.h"
+#include "core/solve_interrupter.h"
+#include "ispq/v1/service.pb.h"
+#include "server/job_event_log.h"
+#include "server/job_spec.h"
+
+namespace ispq::server {
+
+// Something that follows a job's events (a stream to a client).
+class JobWatcher {
+ public:
+  virtual ~JobWatcher() = default;
+  // Called on the thread that appended an event, without any lock of the job held. Must be
+  // cheap and must not block: it runs inside the solver's progress callback.
+  virtual void OnJobEvent() = 0;
+};
+
+class Job {
+ public:
+  // Emits the accepted event (number 0). `bound_to_call`: the job was started by a Quantize
+  // call and ends with it.
+  Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now);
+  Job(const Job&) = delete;
+  Job& operator=(const Job&) = delete;
+
+  const std::string& id() const { return id_; }
+  const std::string& name() const { return name_; }
+  // The worker's view while it runs the job; the mesh is null once the job has ended.
+  const JobSpec& spec() const { return spec_; }
+  bool bound_to_call() const { return bound_to_call_; }
+  const SolveInterrupter& interrupter() const { return interrupter_; }
+  absl::Time create_time() const { return create_time_; }
+
+  // ---- The worker that took the job from the queue ----
+
+  // QUEUED -> RUNNING. False, changing nothing, if cancellation was requested meanwhile: the
+  // worker then ends the job with FinishWithError.
+  bool Start(absl::Time now);
+  void PublishProgress(const v1::Progress& progress);
+  void PublishIntermediate(v1::IntermediateQuantization intermediate);
+  // The run returned a result: CANCELLED if it was interrupted on request, SUCCEEDED otherwise.
+  void FinishWithResult(v1::QuantizationResult result, absl::Time now);
+  // Ends the job without a result: CANCELLED if `status` is CANCELLED, FAILED otherwise.
+  void FinishWithError(const absl::Status& status, absl::Time now);
+
+  // ---- Anyone ----
+
+  // Makes a queued job never start and asks a running solve to stop at its next check between
+  // LP solves. Does not end a queued job by itself: whoever owns it (the canceller that took it
+  // out of the queue, or the worker that popped it) ends it. Idempotent; no effect once done.
+  void RequestCancel();
+
+  v1::JobState state() const;
+  bool done() const;
+  std::optional<absl::Time> end_time() const;
+  v1::Job ToProto(v1::JobView view) const;
+
+  // What a stream that has delivered every event numbered below `from` does next: write
+  // `event`, or (when the job has ended and nothing numbered `from` or more is left) finish with
+  // `final_status`: OK after a result, the error's status after an error. Neither: wait for the
+  // next notification.
+  struct StreamStep {
+    std::optional<v1::QuantizeEvent> event;
+    std::optional<absl::Status> final_status;
+  };
+  StreamStep NextForStream(int64_t from) const;
+
+  // Adds a watcher, notified after every event until it expires. Notifies it once right away
+  // if the job already has events, so that it cannot miss any.
+  void AddWatcher(std::weak_ptr<JobWatcher> watcher);
+
+ private:
+  v1::QuantizeEvent NewEvent(absl::Time now) const;
+  // Appends under the lock and returns the watchers to notify once it is released.
+  std::vector<std::shared_ptr<JobWatcher>> AppendLocked(v1::QuantizeEvent event)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  static void Notify(const std::vector<std::shared_ptr<JobWatcher>>& watchers);
+
+  // Ends the job: state, end time, the terminal event, and the mesh let go.
+  std::vector<std::shared_ptr<JobWatcher>> EndLocked(v1::JobState state, absl::Time now,
+                                                     v1::QuantizeEvent terminal)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+
+  const std::string id_;
+  const std::string name_;
+  // Written once more after construction, by EndLocked, when no worker reads it any more.
+  JobSpec spec_;
+  const std::string mesh_display_name_;
+  const bool bound_to_call_;
+  const absl::Time create_time_;
+  SolveInterrupter interrupter_;
+
+  mutable absl::Mutex mutex_;
+  v1::JobState state_ ABSL_GUARDED_BY(mutex_) = v1::QUEUED;
+  bool cancel_requested_ ABSL_GUARDED_BY(mutex_) = false;
+  std::optional<absl::Time> start_time_ ABSL_GUARDED_BY(mutex_);
+  std::optional<absl::Time> end_time_ ABSL_GUARDED_BY(mutex_);
+  std::optional<v1::Progress> latest_progress_ ABSL_GUARDED_BY(mutex_);
+  JobEventLog events_ ABSL_GUARDED_BY(mutex_);
+  std::vector<std::weak_ptr<JobWatcher>> watchers_ ABSL_GUARDED_BY(mutex_);
+};
+
+}  // namespace ispq::server
+
+#endif  // ISPQ_SERVER_JOB_H_

@@ -1,0 +1,65 @@
+// Streams one job's events to one client: the reactor behind both Quantize and WatchJob
+// (raw methods, see server/raw_proto_call.h: events are serialized here).
+//
+// It writes one event at a time (flow control: a slow client holds one event in flight, and
+// the job's compacted log means it catches up with the newest snapshot instead of a backlog),
+// is woken by the job after each new event (JobWatcher) and by gRPC after each write, and ends
+// the call with the job's status after the terminal event. For Quantize the job belongs to the
+// call: when the client cancels, disconnects or passes its deadline, the job is cancelled too.
+//
+// Lifetime: the stream owns itself from Start until gRPC's OnDone; the job holds it weakly, so
+// a notification racing with the end of the call keeps it alive just long enough to see that it
+// is finished. Every decision is taken under the stream's mutex and every gRPC operation is
+// started after releasing it, so a reaction that gRPC runs inline cannot deadlock.
+#ifndef ISPQ_SERVER_JOB_EVENT_STREAM_H_
+#define ISPQ_SERVER_JOB_EVENT_STREAM_H_
+
+#include <cstdint>
+#include <memory>
+
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
+#include "grpcpp/support/byte_buffer.h"
+#include "grpcpp/support/server_callback.h"
+#include "ispq/v1/service.pb.h"
+#include "server/job.h"
+#include "server/job_scheduler.h"
+
+namespace ispq::server {
+
+class JobEventStream : public grpc::ServerWriteReactor<grpc::ByteBuffer>,
+                       public JobWatcher,
+                       public std::enable_shared_from_this<JobEventStream> {
+ public:
+  // Starts streaming `job` from event `from_event`; returns the reactor for gRPC. With
+  // `cancel_job_with_call` set, the call's end before the job's cancels the job through it.
+  static grpc::ServerWriteReactor<grpc::ByteBuffer>* Start(std::shared_ptr<Job> job,
+                                                           int64_t from_event,
+                                                           JobScheduler* cancel_job_with_call);
+
+  JobEventStream(std::shared_ptr<Job> job, int64_t from_event, JobScheduler* cancel_job_with_call);
+
+  void OnJobEvent() override { Advance(); }
+  void OnWriteDone(bool ok) override;
+  void OnCancel() override;
+  void OnDone() override;
+
+ private:
+  // Starts the next write or the finish, if one is due and none is in flight.
+  void Advance();
+
+  const std::shared_ptr<Job> job_;
+  JobScheduler* const cancel_job_with_call_;
+  std::shared_ptr<JobEventStream> self_;  // set by Start, released by OnDone
+
+  absl::Mutex mutex_;
+  int64_t next_sequence_ ABSL_GUARDED_BY(mutex_);
+  grpc::ByteBuffer in_flight_ ABSL_GUARDED_BY(mutex_);  // gRPC reads it until OnWriteDone
+  bool write_in_flight_ ABSL_GUARDED_BY(mutex_) = false;
+  bool call_broken_ ABSL_GUARDED_BY(mutex_) = false;  // cancelled or a write failed
+  bool finished_ ABSL_GUARDED_BY(mutex_) = false;
+};
+
+}  // namespace ispq::server
+
+#endif  // ISPQ_SERVER_JOB_EVENT_STREAM_H_

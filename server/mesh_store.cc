@@ -1,0 +1,50 @@
+#include "server/mesh_store.h"
+
+#include <utility>
+
+#include "server/resource_names.h"
+
+namespace ispq::server {
+
+MeshStore::MeshStore(int capacity) : capacity_(capacity) {}
+
+std::shared_ptr<const StoredMesh> MeshStore::Add(AdmittedMesh admitted, absl::Time now) {
+  auto stored = std::make_shared<StoredMesh>();
+  stored->admitted = std::move(admitted);
+  stored->create_time = now;
+  absl::MutexLock lock(&mutex_);
+  do {
+    stored->id = NewResourceId();
+  } while (by_id_.contains(stored->id));
+  while (!recency_.empty() && static_cast<int>(recency_.size()) >= capacity_) {
+    by_id_.erase(recency_.back()->id);
+    recency_.pop_back();
+  }
+  recency_.push_front(stored);
+  by_id_[stored->id] = recency_.begin();
+  return stored;
+}
+
+std::shared_ptr<const StoredMesh> MeshStore::Find(const std::string& id) {
+  absl::MutexLock lock(&mutex_);
+  const auto it = by_id_.find(id);
+  if (it == by_id_.end()) return nullptr;
+  recency_.splice(recency_.begin(), recency_, it->second);
+  return *it->second;
+}
+
+bool MeshStore::Remove(const std::string& id) {
+  absl::MutexLock lock(&mutex_);
+  const auto it = by_id_.find(id);
+  if (it == by_id_.end()) return false;
+  recency_.erase(it->second);
+  by_id_.erase(it);
+  return true;
+}
+
+int MeshStore::size() const {
+  absl::MutexLock lock(&mutex_);
+  return static_cast<int>(recency_.size());
+}
+
+}  // namespace ispq::server

@@ -1,0 +1,82 @@
+// ispq-server: the quantization service of proto/ispq/v1/service.proto, with standard health
+// checking (grpc.health.v1) and server reflection, as one object that owns all its parts.
+//
+// Threading model
+//   * gRPC's callback API. RPC handlers run on gRPC's own threads and never block: unary
+//     methods validate a request and look things up; the streaming methods (Quantize, WatchJob)
+//     return a reactor (JobEventStream) that writes one event at a time and is woken by the job
+//     when it has a new event and by gRPC when a write completes. A thousand watchers cost a
+//     thousand small objects, not a thousand threads.
+//   * A fixed pool of worker threads (--workers, default one per hardware thread). Each worker
+//     takes one job at a time from a bounded FIFO queue (--max_queued_jobs) and runs the core
+//     quantizer on it single-threaded; admission past a full queue is RESOURCE_EXHAUSTED with a
+//     retry hint. The solver reports progress on the worker's thread into the job's event log
+//     (rate-limited and compacted), which notifies the job's streams.
+//   * Cancellation is cooperative: CancelJob, the end of a Quantize call (client cancel,
+//     disconnect, deadline) and shutdown set the job's SolveInterrupter, which the solver checks
+//     between LP solves; it then returns the best valid quantization found so far, if any.
+//   * Shared state: each job guards itself with one mutex; the job store, queue, mesh store and
+//     histograms each have their own. Locks are never held while calling into gRPC or while
+//     notifying watchers, and the only nesting is store/stream -> job.
+//
+// Ownership: QuantizerServer owns the metrics, the mesh store, the scheduler (job store, queue,
+// workers), the service and the grpc::Server; jobs are shared between the scheduler and the
+// streams watching them. Members are destroyed in reverse order: the gRPC server first (no
+// more calls), then the service, then the scheduler (joins the workers).
+//
+// Graceful shutdown (SIGTERM/SIGINT in server_main.cc, or Shutdown()): health turns
+// NOT_SERVING, new jobs are refused with UNAVAILABLE and queued ones end with UNAVAILABLE (they
+// never started, so clients can resubmit elsewhere); running jobs may finish until a quarter of
+// the grace period (at most 5 s) is left, then they are interrupted and end with their best
+// result; the remaining time lets the streams deliver the terminal events before gRPC cancels
+// whatever is left. Job queries keep working until the end.
+#ifndef ISPQ_SERVER_QUANTIZER_SERVER_H_
+#define ISPQ_SERVER_QUANTIZER_SERVER_H_
+
+#include <memory>
+
+#include "absl/status/statusor.h"
+#include "grpcpp/server.h"
+#include "server/bearer_token_authenticator.h"
+#include "server/job_scheduler.h"
+#include "server/mesh_store.h"
+#include "server/quantizer_service.h"
+#include "server/server_config.h"
+#include "server/server_metrics.h"
+
+namespace ispq::server {
+
+class QuantizerServer {
+ public:
+  // Validates the configuration, starts the workers and listens. INVALID_ARGUMENT for a bad
+  // configuration or unusable TLS files, UNAVAILABLE if the address cannot be bound.
+  static absl::StatusOr<std::unique_ptr<QuantizerServer>> Start(const ServerConfig& config);
+
+  // Shuts down gracefully if Shutdown was not called.
+  ~QuantizerServer();
+  QuantizerServer(const QuantizerServer&) = delete;
+  QuantizerServer& operator=(const QuantizerServer&) = delete;
+
+  // The bound port (useful with port 0 in --listen).
+  int port() const { return port_; }
+
+  // Graceful shutdown within the configured grace period (see the file comment). Idempotent.
+  void Shutdown();
+
+ private:
+  explicit QuantizerServer(const ServerConfig& config);
+
+  const ServerConfig config_;
+  ServerMetrics metrics_;
+  MeshStore meshes_;
+  BearerTokenAuthenticator authenticator_;
+  JobScheduler scheduler_;
+  QuantizerService service_;
+  std::unique_ptr<grpc::Server> server_;
+  int port_ = 0;
+  bool shut_down_ = false;
+};
+
+}  // namespace ispq::server
+
+#endif  // ISPQ_SERVER_QUANTIZER_SERVER_H_

@@ -1,0 +1,46 @@
+#include "server/server_config.h"
+
+#include "absl/strings/str_cat.h"
+
+namespace ispq::server {
+namespace {
+
+absl::Status AtLeast(const char* flag, int64_t value, int64_t minimum) {
+  if (value >= minimum) return absl::OkStatus();
+  return absl::InvalidArgumentError(
+      absl::StrCat("--", flag, " must be at least ", minimum, ", got ", value));
+}
+
+}  // namespace
+
+absl::Status ValidateServerConfig(const ServerConfig& config) {
+  if (config.listen_address.empty()) return absl::InvalidArgumentError("--listen is empty");
+  for (const absl::Status& status : {
+           AtLeast("workers", config.workers, 1),
+           AtLeast("max_message_bytes", config.max_message_bytes, 1024),
+           AtLeast("max_arcs", config.max_arcs, 1),
+           AtLeast("max_queued_jobs", config.max_queued_jobs, 1),
+           AtLeast("retain_finished_jobs", config.retain_finished_jobs, 0),
+           AtLeast("max_stored_meshes", config.max_stored_meshes, 1),
+       }) {
+    if (!status.ok()) return status;
+  }
+  if (config.max_job_time <= absl::ZeroDuration()) {
+    return absl::InvalidArgumentError("--max_job_seconds must be positive");
+  }
+  if (config.retain_finished_time < absl::ZeroDuration()) {
+    return absl::InvalidArgumentError("--retain_seconds must not be negative");
+  }
+  if (config.shutdown_grace < absl::ZeroDuration()) {
+    return absl::InvalidArgumentError("--shutdown_grace_seconds must not be negative");
+  }
+  if (config.tls.cert.empty() != config.tls.key.empty()) {
+    return absl::InvalidArgumentError("--tls_cert and --tls_key go together");
+  }
+  if (!config.tls.client_ca.empty() && !config.tls.enabled()) {
+    return absl::InvalidArgumentError("--tls_client_ca needs --tls_cert and --tls_key");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace ispq::server

@@ -1,0 +1,43 @@
+// Everything ispq-server is configured with, as one value: filled from the command-line flags
+// by server_main.cc and checked once before anything starts.
+#ifndef ISPQ_SERVER_SERVER_CONFIG_H_
+#define ISPQ_SERVER_SERVER_CONFIG_H_
+
+#include <string>
+
+#include "absl/status/status.h"
+#include "absl/time/time.h"
+
+namespace ispq::server {
+
+// PEM files. cert and key together enable TLS; client_ca additionally requires and verifies
+// client certificates signed by that CA (mutual TLS).
+struct TlsFiles {
+  std::string cert;
+  std::string key;
+  std::string client_ca;
+
+  bool enabled() const { return !cert.empty(); }
+};
+
+struct ServerConfig {
+  std::string listen_address = "127.0.0.1:50051";
+  int workers = 1;
+  int max_message_bytes = 32 << 20;
+  int max_arcs = 500000;
+  int max_queued_jobs = 64;
+  absl::Duration max_job_time = absl::Minutes(10);  // InfiniteDuration: no server limit
+  int retain_finished_jobs = 1000;
+  absl::Duration retain_finished_time = absl::Hours(1);
+  int max_stored_meshes = 100;
+  absl::Duration shutdown_grace = absl::Seconds(25);
+  TlsFiles tls;
+  std::string auth_token;  // empty: no bearer-token check
+};
+
+// INVALID_ARGUMENT naming the flag for values that cannot work.
+absl::Status ValidateServerConfig(const ServerConfig& config);
+
+}  // namespace ispq::server
+
+#endif  // ISPQ_SERVER_SERVER_CONFIG_H_

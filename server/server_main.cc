@@ -1,0 +1,159 @@
+// ispq-server: serves ispq.v1.Quantizer (see server/quantizer_server.h for the threading model
+// and the shutdown sequence). Logs one structured line per event to stderr.
+//
+//   ispq-server [--listen 127.0.0.1:50051] [--workers N] [limits] [--tls_cert F --tls_key F
+//               [--tls_client_ca F]] [--auth_token_file F]
+//
+// Stops gracefully on SIGTERM or SIGINT and exits 0; exits 1 if it cannot start.
+#include <pthread.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "absl/flags/flag.h"
+#include "absl/flags/parse.h"
+#include "absl/flags/usage.h"
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/strip.h"
+#include "core/tmesh_file.h"
+#include "server/quantizer_server.h"
+#include "server/server_config.h"
+#include "spdlog/sinks/stdout_sinks.h"
+#include "spdlog/spdlog.h"
+
+ABSL_FLAG(std::string, listen, "127.0.0.1:50051",
+          "address to listen on, HOST:PORT; port 0 picks a free port (see --port_file); use "
+          "0.0.0.0:PORT to accept connections from other hosts");
+ABSL_FLAG(int, workers, 0, "jobs solved at once, one thread each; 0: one per hardware thread");
+ABSL_FLAG(int, max_message_bytes, 32 << 20, "largest request accepted, in bytes");
+ABSL_FLAG(int, max_arcs, 500000, "largest T-mesh accepted, in arcs");
+ABSL_FLAG(int, max_queued_jobs, 64,
+          "jobs that may wait for a worker; beyond, requests get RESOURCE_EXHAUSTED");
+ABSL_FLAG(double, max_job_seconds, 600,
+          "time limit of every job (a request may ask for less); the job then returns its best "
+          "valid quantization so far");
+ABSL_FLAG(int, retain_finished_jobs, 1000, "finished jobs kept for GetJob/WatchJob");
+ABSL_FLAG(double, retain_seconds, 3600, "how long a finished job is kept");
+ABSL_FLAG(int, max_stored_meshes, 100,
+          "meshes kept from CreateMesh; beyond, the least recently used is evicted");
+ABSL_FLAG(double, shutdown_grace_seconds, 25,
+          "time from SIGTERM to exit: running jobs may finish until a quarter of it (at most 5 s) "
+          "is left, then they are interrupted and their results delivered");
+ABSL_FLAG(std::string, tls_cert, "", "PEM certificate chain of the server; enables TLS");
+ABSL_FLAG(std::string, tls_key, "", "PEM private key of --tls_cert");
+ABSL_FLAG(std::string, tls_client_ca, "",
+          "PEM CA certificates; if set, clients must present a certificate signed by one");
+ABSL_FLAG(std::string, auth_token, "",
+          "if set, every Quantizer call needs metadata 'authorization: Bearer <token>' (visible "
+          "in the process list: prefer --auth_token_file)");
+ABSL_FLAG(std::string, auth_token_file, "",
+          "file holding the bearer token (e.g. a mounted secret)");
+ABSL_FLAG(std::string, port_file, "",
+          "after binding, write the port to this file (for scripts that listen on port 0)");
+ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error or off");
+
+namespace {
+
+absl::StatusOr<std::string> AuthToken() {
+  const std::string file = absl::GetFlag(FLAGS_auth_token_file);
+  if (file.empty()) return absl::GetFlag(FLAGS_auth_token);
+  if (!absl::GetFlag(FLAGS_auth_token).empty()) {
+    return absl::InvalidArgumentError("--auth_token and --auth_token_file exclude each other");
+  }
+  absl::StatusOr<std::string> token = ispq::ReadFileToString(file, 4096);
+  if (!token.ok()) return token.status();
+  std::string trimmed(absl::StripAsciiWhitespace(*token));
+  if (trimmed.empty()) return absl::InvalidArgumentError(absl::StrCat(file, " is empty"));
+  return trimmed;
+}
+
+absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
+  ispq::server::ServerConfig config;
+  config.listen_address = absl::GetFlag(FLAGS_listen);
+  const int workers = absl::GetFlag(FLAGS_workers);
+  config.workers = workers > 0 ? workers : std::max(1u, std::thread::hardware_concurrency());
+  if (workers < 0) return absl::InvalidArgumentError("--workers must not be negative");
+  config.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
+  config.max_arcs = absl::GetFlag(FLAGS_max_arcs);
+  config.max_queued_jobs = absl::GetFlag(FLAGS_max_queued_jobs);
+  config.max_job_time = absl::Seconds(absl::GetFlag(FLAGS_max_job_seconds));
+  config.retain_finished_jobs = absl::GetFlag(FLAGS_retain_finished_jobs);
+  config.retain_finished_time = absl::Seconds(absl::GetFlag(FLAGS_retain_seconds));
+  config.max_stored_meshes = absl::GetFlag(FLAGS_max_stored_meshes);
+  config.shutdown_grace = absl::Seconds(absl::GetFlag(FLAGS_shutdown_grace_seconds));
+  config.tls.cert = absl::GetFlag(FLAGS_tls_cert);
+  config.tls.key = absl::GetFlag(FLAGS_tls_key);
+  config.tls.client_ca = absl::GetFlag(FLAGS_tls_client_ca);
+  absl::StatusOr<std::string> token = AuthToken();
+  if (!token.ok()) return token.status();
+  config.auth_token = *token;
+  return config;
+}
+
+// Written to a temporary name and renamed, so that a reader never sees a partial port.
+absl::Status WritePortFile(const std::string& path, int port) {
+  const std::string temporary = path + ".tmp";
+  {
+    std::ofstream out(temporary, std::ios::trunc);
+    out << port << "\n";
+    if (!out) return absl::InternalError(absl::StrCat("cannot write ", temporary));
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, path, error);
+  if (error) return absl::InternalError(absl::StrCat("cannot rename ", temporary, " to ", path));
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  absl::SetProgramUsageMessage("ispq-server: the ispq quantization service (gRPC)");
+  absl::ParseCommandLine(argc, argv);
+
+  spdlog::set_default_logger(spdlog::stderr_logger_mt("ispq-server"));
+  spdlog::set_pattern("ts=%Y-%m-%dT%H:%M:%S.%eZ level=%l %v", spdlog::pattern_time_type::utc);
+  spdlog::set_level(spdlog::level::from_str(absl::GetFlag(FLAGS_log_level)));
+  spdlog::flush_on(spdlog::level::info);
+
+  // Block the stop signals in every thread (gRPC's and the workers inherit the mask) and take
+  // them synchronously below, so that shutdown runs as ordinary code, not in a handler.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGTERM);
+  sigaddset(&stop_signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  absl::StatusOr<ispq::server::ServerConfig> config = ConfigFromFlags();
+  if (!config.ok()) {
+    spdlog::error("event=config_error error=\"{}\"", std::string(config.status().message()));
+    return 1;
+  }
+  absl::StatusOr<std::unique_ptr<ispq::server::QuantizerServer>> server =
+      ispq::server::QuantizerServer::Start(*config);
+  if (!server.ok()) {
+    spdlog::error("event=start_error error=\"{}\"", std::string(server.status().message()));
+    return 1;
+  }
+  if (const std::string port_file = absl::GetFlag(FLAGS_port_file); !port_file.empty()) {
+    if (absl::Status written = WritePortFile(port_file, (*server)->port()); !written.ok()) {
+      spdlog::error("event=start_error error=\"{}\"", std::string(written.message()));
+      return 1;
+    }
+  }
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  spdlog::info("event=signal signal={}", signal_number == SIGTERM ? "SIGTERM" : "SIGINT");
+  (*server)->Shutdown();
+  server->reset();
+  spdlog::info("event=server_exit");
+  return 0;
+}

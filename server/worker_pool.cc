@@ -1,0 +1,27 @@
+#include "server/worker_pool.h"
+
+#include <memory>
+
+#include "server/job_runner.h"
+
+namespace ispq::server {
+
+WorkerPool::WorkerPool(int workers, JobQueue& queue, ServerMetrics& metrics)
+    : queue_(queue), metrics_(metrics) {
+  threads_.reserve(workers);
+  for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { Work(); });
+}
+
+WorkerPool::~WorkerPool() {
+  for (std::thread& thread : threads_) thread.join();
+}
+
+void WorkerPool::Work() {
+  while (std::shared_ptr<Job> job = queue_.Pop()) {
+    RunJob(*job, metrics_);
+    job.reset();  // drop the worker's reference before the queue counts the job as done
+    queue_.MarkDone();
+  }
+}
+
+}  // namespace ispq::server
