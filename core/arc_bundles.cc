@@ -1,36 +1,24 @@
 #include "core/arc_bundles.h"
 
 #include <algorithm>
-#include <numeric>
+
+#include "core/disjoint_sets.h"
 
 namespace ispq {
-namespace {
-
-int32_t FindRoot(std::vector<int32_t>& parent, int32_t x) {
-  while (parent[x] != x) {
-    parent[x] = parent[parent[x]];
-    x = parent[x];
-  }
-  return x;
-}
-
-}  // namespace
 
 ArcBundles::ArcBundles(const TMesh& mesh, const ConsistencyMatrix& consistency) {
   const int n = mesh.num_arcs();
-  std::vector<int32_t> parent(n);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets sets(n);
   for (int r = 0; r < consistency.num_rows(); ++r) {
     const std::span<const LinearTerm> row = consistency.row(r);
     if (row.size() != 2) continue;  // one arc on each side
-    const int32_t x = FindRoot(parent, row[0].var), y = FindRoot(parent, row[1].var);
-    if (x != y) parent[std::max(x, y)] = std::min(x, y);  // root = smallest arc
+    sets.Join(row[0].var, row[1].var);
   }
   // Number bundles in order of their smallest arc.
   bundle_of_arc_.assign(n, kNoId);
   std::vector<std::vector<ArcId>> members;
   for (ArcId a = 0; a < n; ++a) {
-    const int32_t root = FindRoot(parent, a);
+    const int32_t root = sets.Find(a);  // the smallest arc of its bundle
     if (root == a) {
       bundle_of_arc_[a] = static_cast<BundleId>(members.size());
       members.emplace_back();

@@ -16,6 +16,7 @@
 #include "core/block_extents.h"
 #include "core/bundle_quantization.h"
 #include "core/consistency_matrix.h"
+#include "core/disjoint_sets.h"
 #include "core/flat_lists.h"
 #include "core/inequality_rows.h"
 #include "core/integer_sheet.h"
@@ -68,23 +69,6 @@ struct Step {
   IntegerSheet sheet;
   int64_t t = 0;
   double gain = 0;
-};
-
-class DisjointGroups {
- public:
-  explicit DisjointGroups(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int32_t Find(int32_t x) {
-    while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-    return x;
-  }
-  void Join(int32_t x, int32_t y) {
-    x = Find(x);
-    y = Find(y);
-    if (x != y) parent_[std::max(x, y)] = std::min(x, y);
-  }
-
- private:
-  std::vector<int32_t> parent_;
 };
 
 class IntegerSheetPump {
@@ -831,7 +815,7 @@ void IntegerSheetPump::AttachRows(const std::vector<int32_t>& new_rows) {
   if (new_rows.empty()) return;
   // Rows spanning several subproblems merge them (section 4.4 is a static decomposition; the
   // separation rows can couple it); only the merged subproblem's LP is rebuilt.
-  DisjointGroups sets(static_cast<int>(groups_.size()));
+  DisjointSets sets(static_cast<int>(groups_.size()));
   for (int32_t r : new_rows) {
     const std::span<const LinearTerm> terms = rows_.terms(r);
     for (const LinearTerm& t : terms)

@@ -1,33 +1,9 @@
 #include "core/subproblems.h"
 
-#include <numeric>
-
 #include "core/block_extents.h"
+#include "core/disjoint_sets.h"
 
 namespace ispq {
-namespace {
-
-class DisjointSets {
- public:
-  explicit DisjointSets(int n) : parent_(n) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int32_t Find(int32_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void Join(int32_t x, int32_t y) {
-    x = Find(x);
-    y = Find(y);
-    if (x != y) parent_[std::max(x, y)] = std::min(x, y);
-  }
-
- private:
-  std::vector<int32_t> parent_;
-};
-
-}  // namespace
 
 Subproblems::Subproblems(const TMesh& mesh, const ConsistencyMatrix& consistency,
                          const ArcBundles& bundles) {
