@@ -44,6 +44,34 @@ double ObjectiveOf(const v1::TMesh& mesh, double scaling, const v1::Intermediate
 
 class QuantizeStreamTest : public ::testing::TestWithParam<Instance> {};
 
+// Checks a stream's intermediate quantizations in order: each is a full q whose reported
+// objective is its own, and each improves on the one before (a separating q beats any other,
+// then a lower objective wins).
+class IntermediateSequenceChecker {
+ public:
+  IntermediateSequenceChecker(const v1::TMesh& mesh, double scaling)
+      : mesh_(mesh), scaling_(scaling) {}
+
+  void Check(const v1::QuantizeEvent& event) {
+    const v1::IntermediateQuantization& intermediate = event.intermediate();
+    ASSERT_EQ(intermediate.q_size(), mesh_.arcs_size());
+    const double objective = intermediate.progress().objective();
+    EXPECT_NEAR(ObjectiveOf(mesh_, scaling_, intermediate), objective, 1e-6 * (1 + objective));
+    const bool separating = intermediate.progress().separating();
+    EXPECT_TRUE((separating && !sent_separating_) ||
+                (separating == sent_separating_ && objective < sent_objective_))
+        << "intermediate quantization " << event.sequence() << " does not improve";
+    sent_separating_ = separating;
+    sent_objective_ = objective;
+  }
+
+ private:
+  const v1::TMesh& mesh_;
+  const double scaling_;
+  bool sent_separating_ = false;
+  double sent_objective_ = INFINITY;
+};
+
 TEST_P(QuantizeStreamTest, StreamsEventsInOrderAndAValidResult) {
   const v1::TMesh mesh = LoadInstance(GetParam());
   std::unique_ptr<ServerProcess> server = StartServerOrFail({"--workers=2"});
@@ -81,8 +109,7 @@ TEST_P(QuantizeStreamTest, StreamsEventsInOrderAndAValidResult) {
   EXPECT_DOUBLE_EQ(scaling, outcome.result->scaling());
   ASSERT_TRUE(events.back().has_result());
   int progress_events = 0;
-  bool sent_separating = false;
-  double sent_objective = INFINITY;
+  IntermediateSequenceChecker intermediates(mesh, scaling);
   for (size_t i = 0; i < events.size(); ++i) {
     const v1::QuantizeEvent& event = events[i];
     EXPECT_EQ(event.job(), job);
@@ -93,19 +120,7 @@ TEST_P(QuantizeStreamTest, StreamsEventsInOrderAndAValidResult) {
       EXPECT_TRUE(event.has_progress() || event.has_intermediate()) << event.DebugString();
     }
     if (event.has_progress()) ++progress_events;
-    if (event.has_intermediate()) {
-      // Full q, consistent with the reported objective, and better than the one before.
-      const v1::IntermediateQuantization& intermediate = event.intermediate();
-      ASSERT_EQ(intermediate.q_size(), mesh.arcs_size());
-      const double objective = intermediate.progress().objective();
-      EXPECT_NEAR(ObjectiveOf(mesh, scaling, intermediate), objective, 1e-6 * (1 + objective));
-      const bool separating = intermediate.progress().separating();
-      EXPECT_TRUE((separating && !sent_separating) ||
-                  (separating == sent_separating && objective < sent_objective))
-          << "intermediate quantization " << event.sequence() << " does not improve";
-      sent_separating = separating;
-      sent_objective = objective;
-    }
+    if (event.has_intermediate()) intermediates.Check(event);
   }
   EXPECT_GE(progress_events, 1);
 
@@ -162,20 +177,10 @@ TEST(IntermediateQuantizationTest, ALongJobSendsImprovingQuantizationsAtTheReque
   // The first report carries q (the job is still running when the stream starts, and the
   // latest intermediate quantization is kept until the result replaces it).
   ASSERT_GE(intermediates.size(), 1u);
-  bool sent_separating = false;
-  double sent_objective = INFINITY;
+  IntermediateSequenceChecker checker(mesh, scaling);
   absl::Time previous = absl::InfinitePast();
   for (const v1::QuantizeEvent& event : intermediates) {
-    const v1::IntermediateQuantization& intermediate = event.intermediate();
-    ASSERT_EQ(intermediate.q_size(), mesh.arcs_size());
-    const double objective = intermediate.progress().objective();
-    EXPECT_NEAR(ObjectiveOf(mesh, scaling, intermediate), objective, 1e-6 * (1 + objective));
-    const bool separating = intermediate.progress().separating();
-    EXPECT_TRUE((separating && !sent_separating) ||
-                (separating == sent_separating && objective < sent_objective))
-        << "intermediate quantization " << event.sequence() << " does not improve";
-    sent_separating = separating;
-    sent_objective = objective;
+    checker.Check(event);
     const absl::Time sent =
         absl::FromUnixSeconds(event.time().seconds()) + absl::Nanoseconds(event.time().nanos());
     EXPECT_GE(sent - previous,
