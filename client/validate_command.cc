@@ -41,8 +41,8 @@ int RunValidate(const ValidateCommandOptions& options) {
     return kExitUsage;
   }
   ValidationOptions validation;
-  validation.search.block_box =
-      options.reference_block_boxes ? BlockBoxMode::kReferenceUnsorted : BlockBoxMode::kSorted;
+  validation.separation = options.reference_block_boxes ? SeparationRule::kReferenceSearch
+                                                        : SeparationRule::kBothSearches;
   absl::StatusOr<ValidationReport> report = ValidateQuantization(*mesh, *q, validation);
   if (!report.ok()) {
     std::cerr << "ispq: " << report.status().message() << "\n";

@@ -22,7 +22,7 @@
 #include "core/integer_sheet.h"
 #include "core/integer_step.h"
 #include "core/lcd_scaling.h"
-#include "core/separation_search.h"
+#include "core/separation_check.h"
 #include "core/sheet_subproblem.h"
 #include "core/simple_constraints.h"
 #include "core/subproblems.h"
@@ -142,9 +142,10 @@ class IntegerSheetPump {
   FlatLists<LinearTerm> equalities_;  // consistency rows over bundles, deduplicated
   std::vector<int32_t> equality_component_;
   std::optional<Subproblems> components_;
-  std::optional<SeparationSearch> search_;
-  // The reference's laxer search, used first when tuning_.lenient_search_first (see there).
-  std::optional<SeparationSearch> lenient_search_;
+  // Reference search first, then the sorted one (core/separation_check.h): the laxer search's
+  // rows come first, and every row the sorted search adds early on, for a q that is later left
+  // anyway, constrains the rest of the run.
+  std::optional<SeparationCheck> separation_;
 
   // Simple rows over bundles, activated all at once when one is first violated.
   FlatLists<LinearTerm> simple_terms_;
@@ -771,8 +772,7 @@ absl::StatusOr<int64_t> IntegerSheetPump::SearchRound(std::vector<int32_t>* new_
   {
     ScopedSeconds timer(&stats_.separation_search_seconds);
     quantization_.ArcValues(&arc_values_);
-    violations = lenient_search_.has_value() ? lenient_search_->FindViolations(arc_values_)
-                                             : search_->FindViolations(arc_values_);
+    violations = separation_->FindFirstViolations(arc_values_);
   }
   ++stats_.separation_rounds;
   changed_since_search_ = false;
@@ -914,13 +914,7 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
   BuildEqualities();
   BuildInitialRows();
   BuildSubproblems();
-  search_.emplace(mesh_, options_.separation);
-  if (tuning_.lenient_search_first &&
-      options_.separation.block_box != BlockBoxMode::kReferenceUnsorted) {
-    SeparationSearchOptions lenient = options_.separation;
-    lenient.block_box = BlockBoxMode::kReferenceUnsorted;
-    lenient_search_.emplace(mesh_, lenient);
-  }
+  separation_.emplace(mesh_, options_.separation);
   bundle_mark_.assign(bundles_.num_bundles(), 0);
 
   // The first descent runs with consistency and C rows only.
@@ -936,13 +930,6 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
       absl::StatusOr<int64_t> searched = SearchRound(&new_rows);
       if (!searched.ok()) return searched.status();
       found = *searched;
-      if (found == 0 && lenient_search_.has_value()) {
-        // The lax search is satisfied: from now on the requested search decides.
-        lenient_search_.reset();
-        searched = SearchRound(&new_rows);
-        if (!searched.ok()) return searched.status();
-        found = *searched;
-      }
       if (found == 0) {
         search_clean_ = true;
         SaveIfBestValid();

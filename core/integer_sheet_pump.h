@@ -63,13 +63,6 @@ struct IspTuning {
   // change per unit. A separating sheet usually moves arcs that are all in the same tier, where
   // eq. 4 hardly distinguishes them (false: +0.01%, +0.02% in total objective).
   bool marginal_separation_weights = true;
-  // Collect structural rows with the reference's laxer search (unsorted block boxes) until it
-  // finds nothing, and only then with the requested search. Rows are sufficient, not necessary,
-  // conditions: every row the strict search adds early on, for a q that is later left anyway,
-  // constrains the rest of the run. The result is checked by the requested search either way
-  // (false: +0.07%, +0.32% in total objective, dominated by one instance where two extra early
-  // rows force a sheet of 45 arcs).
-  bool lenient_search_first = true;
   // Separate in the failsafe mode of App. B only (structural rows in their non-negative form,
   // non-deflating sheets), skipping the default and non-deflating modes. Always feasible but
   // coarser; it exists to measure what the finer modes gain.

@@ -77,8 +77,8 @@ absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationO
   if (proto.has_mixed_sign()) options.mixed_sign = proto.mixed_sign();
   if (proto.has_decompose()) options.decompose = proto.decompose();
   options.per_arc_nonnegative = proto.per_arc_nonnegative();
-  options.separation.block_box =
-      proto.reference_block_boxes() ? BlockBoxMode::kReferenceUnsorted : BlockBoxMode::kSorted;
+  options.separation = proto.reference_block_boxes() ? SeparationRule::kReferenceSearch
+                                                     : SeparationRule::kBothSearches;
   if (proto.has_time_limit()) {
     const double seconds = static_cast<double>(proto.time_limit().seconds()) +
                            1e-9 * static_cast<double>(proto.time_limit().nanos());

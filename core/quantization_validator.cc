@@ -46,7 +46,8 @@ std::string DescribeSeparation(const SeparationViolation& v) {
           ? absl::StrCat("critical node ", v.start_node)
           : absl::StrCat("link (entity ", v.start_entity, ", sector ", v.sector, ")");
   return absl::StrCat(start, " touches ", TargetName(v.target_kind), " ", v.target, " (path ",
-                      v.path.size(), " halfarcs)");
+                      v.path.size(), " halfarcs, ",
+                      v.found_by == BlockBoxMode::kSorted ? "sorted" : "reference", " search)");
 }
 
 }  // namespace
@@ -94,8 +95,8 @@ absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::sp
   }
   // The search assumes well-defined integer positions and a non-degenerate start box.
   if (report.consistency.empty() && report.simple.empty()) {
-    SeparationSearch search(mesh, options.search);
-    report.separation = search.FindViolations(q);
+    SeparationCheck check(mesh, options.separation);
+    report.separation = check.FindAllViolations(q);
     report.separation_checked = true;
   }
   return report;

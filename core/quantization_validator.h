@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "core/separation_check.h"
 #include "core/separation_search.h"
 #include "core/simple_constraints.h"
 #include "core/tmesh.h"
@@ -25,7 +26,8 @@ struct ConsistencyViolation {
 };
 
 struct ValidationOptions {
-  SeparationSearchOptions search;
+  // Which searches must find nothing (core/separation_check.h); the default is the product's.
+  SeparationRule separation = SeparationRule::kBothSearches;
   // If set, also require q_a >= this bound for every arc (the per-arc non-negativity switch).
   std::optional<int64_t> per_arc_lower_bound;
 };
@@ -35,7 +37,8 @@ struct ValidationReport {
   std::vector<SimpleRow> simple;  // violated simple rows (negative extents, collapsed links...)
   // Left-hand side of each violated simple row at q (parallel to `simple`).
   std::vector<int64_t> simple_values;
-  // Filled only when q is consistent and satisfies the simple rows (the search needs both).
+  // Filled only when q is consistent and satisfies the simple rows (the search needs both):
+  // the violations of every search of the rule.
   std::vector<SeparationViolation> separation;
   bool separation_checked = false;
 

@@ -43,7 +43,7 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
 
   // Every result is checked by the validator, independently of what the algorithm believes.
   ValidationOptions validation;
-  validation.search = options.separation;
+  validation.separation = options.separation;
   if (options.per_arc_nonnegative) validation.per_arc_lower_bound = 0;
   absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q, validation);
   if (!report.ok()) return report.status();

@@ -13,7 +13,7 @@
 
 #include "absl/status/statusor.h"
 #include "core/quantization_progress.h"
-#include "core/separation_search.h"
+#include "core/separation_check.h"
 #include "core/solve_interrupter.h"
 #include "core/tmesh.h"
 
@@ -24,7 +24,8 @@ struct QuantizeOptions {
   bool mixed_sign = true;            // paper section 4.3.3
   bool decompose = true;             // independent subproblems (paper section 4.4)
   bool per_arc_nonnegative = false;  // add q_a >= 0 for every arc to the block-extent rows
-  SeparationSearchOptions separation;
+  // The searches the result must pass (core/separation_check.h); both unless reproducing upstream.
+  SeparationRule separation = SeparationRule::kBothSearches;
   double time_limit_seconds = std::numeric_limits<double>::infinity();
 };
 

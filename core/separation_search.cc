@@ -561,6 +561,7 @@ void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirS
   violation.sector = c.sector;
   violation.start_dim = c.is_link ? EntityDim::kLink : EntityDim::kNode;
   violation.start_node = c.start_node;
+  violation.found_by = options_.block_box;
   violation.target_kind = kind;
   violation.target = target;
 

@@ -44,6 +44,7 @@ struct SeparationViolation {
   // (the critical node, or the link's first node), so that reports can name them.
   EntityDim start_dim = EntityDim::kNode;
   NodeId start_node = kNoId;
+  BlockBoxMode found_by = BlockBoxMode::kSorted;  // the search that found it
 };
 
 class SeparationSearch {

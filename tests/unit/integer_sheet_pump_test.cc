@@ -32,7 +32,6 @@ std::vector<Variant> Variants() {
       {"repeated_passes", [](IspTuning& t) { t.repeat_greedy_passes = true; }},
       {"damped_steps", [](IspTuning& t) { t.step_damping = 1.0 / 3; }},
       {"tiered_separation_weights", [](IspTuning& t) { t.marginal_separation_weights = false; }},
-      {"strict_search_only", [](IspTuning& t) { t.lenient_search_first = false; }},
       {"failsafe_only", [](IspTuning& t) { t.failsafe_separation_only = true; }},
       {"no_thorough_pass", [](IspTuning& t) { t.thorough_final_pass = false; }},
       {"primal_simplex", [](IspTuning& t) { t.lp.algorithm = ClpAlgorithm::kPrimal; }},
@@ -88,17 +87,6 @@ TEST(IntegerSheetPumpTest, DefaultsSeparateWithoutTheFailsafeOnTheNotch) {
   const QuantizeStats stats = StatsFor("s07c_notch.tmesh.json", 7, IspTuning{});
   EXPECT_GT(stats.separating_updates, 0);
   EXPECT_EQ(stats.failsafe_updates, 0);
-}
-
-TEST(IntegerSheetPumpTest, LenientSearchFirstAddsAConfirmingRound) {
-  IspTuning strict;
-  strict.lenient_search_first = false;
-  const QuantizeStats with_lenient = StatsFor("s07c_notch.tmesh.json", 7, IspTuning{});
-  const QuantizeStats strict_only = StatsFor("s07c_notch.tmesh.json", 7, strict);
-  EXPECT_GT(with_lenient.separation_rounds, 0);
-  EXPECT_GT(strict_only.separation_rounds, 0);
-  // The requested search always has the last word, so at least one extra round runs.
-  EXPECT_GE(with_lenient.separation_rounds, 2);
 }
 
 TEST(IntegerSheetPumpTest, WithoutTheThoroughPassFewerSolvesAreNeeded) {

@@ -143,12 +143,20 @@ TEST(QuantizationValidatorTest, SeparationViolation) {
   EXPECT_TRUE(report->consistent());
   EXPECT_TRUE(report->simple.empty());
   EXPECT_TRUE(report->separation_checked);
-  ASSERT_EQ(report->separation.size(), 1u);
+  // The same violation, found by each of the two searches the product requires.
+  ASSERT_EQ(report->separation.size(), 2u);
   EXPECT_FALSE(report->valid());
+  EXPECT_EQ(report->separation[0].found_by, BlockBoxMode::kReferenceUnsorted);
+  EXPECT_EQ(report->separation[1].found_by, BlockBoxMode::kSorted);
+  for (const SeparationViolation& v : report->separation) {
+    EXPECT_EQ(v.start_node, grid->NodeAt({1, 1, 1}));
+    EXPECT_EQ(v.default_row, report->separation[0].default_row);
+  }
   const SeparationViolation& v = report->separation[0];
-  EXPECT_EQ(v.start_node, grid->NodeAt({1, 1, 1}));
-  EXPECT_EQ(report->Describe(), absl::StrCat("critical node ", v.start_node, " touches patch ",
-                                             v.target, " (path 1 halfarcs)\n"));
+  EXPECT_EQ(report->Describe(),
+            absl::StrCat("critical node ", v.start_node, " touches patch ", v.target,
+                         " (path 1 halfarcs, reference search)\n", "critical node ", v.start_node,
+                         " touches patch ", v.target, " (path 1 halfarcs, sorted search)\n"));
 }
 
 // On every shared mesh: q = 0 collapses every link and region (the search is not run); a

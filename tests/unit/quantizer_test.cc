@@ -37,7 +37,7 @@ void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
   EXPECT_TRUE(result.valid) << context;
   ASSERT_EQ(result.q.size(), static_cast<size_t>(mesh.num_arcs())) << context;
   ValidationOptions validation;
-  validation.search = options.separation;
+  validation.separation = options.separation;
   if (options.per_arc_nonnegative) validation.per_arc_lower_bound = 0;
   const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result.q, validation);
   ASSERT_TRUE(report.ok()) << context << ": " << report.status();
@@ -188,7 +188,7 @@ TEST(QuantizerTest, ReferenceSearchModeGivesResultsValidInThatMode) {
   for (const Level& level : mesh.levels()) {
     QuantizeOptions options;
     options.scaling = level.scaling;
-    options.separation.block_box = BlockBoxMode::kReferenceUnsorted;
+    options.separation = SeparationRule::kReferenceSearch;
     const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
     ASSERT_TRUE(result.ok()) << result.status();
     ExpectValidResult(mesh, options, *result, "reference mode");

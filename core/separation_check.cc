@@ -1,0 +1,33 @@
+#include "core/separation_check.h"
+
+#include <iterator>
+
+namespace ispq {
+
+SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule) {
+  searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kReferenceUnsorted});
+  if (rule == SeparationRule::kBothSearches) {
+    searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kSorted});
+  }
+}
+
+std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(
+    std::span<const int64_t> q) {
+  for (SeparationSearch& search : searches_) {
+    std::vector<SeparationViolation> violations = search.FindViolations(q);
+    if (!violations.empty()) return violations;
+  }
+  return {};
+}
+
+std::vector<SeparationViolation> SeparationCheck::FindAllViolations(std::span<const int64_t> q) {
+  std::vector<SeparationViolation> all;
+  for (SeparationSearch& search : searches_) {
+    std::vector<SeparationViolation> violations = search.FindViolations(q);
+    all.insert(all.end(), std::make_move_iterator(violations.begin()),
+               std::make_move_iterator(violations.end()));
+  }
+  return all;
+}
+
+}  // namespace ispq

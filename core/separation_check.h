@@ -1,0 +1,47 @@
+// The product's verdict on separation: which searches a q must pass to be called separating.
+//
+// The lazy separation search is a heuristic (shared/separation.md section 3.11): it settles every
+// node once per search, so which violations it sees depends on which walk reaches a node first.
+// The paper's search (sorted block boxes) and the reference implementation's (unsorted block
+// boxes, section 3.6) therefore each find violations the other misses: the first around
+// sign-flipping transitions, the second where the sorted search's larger fan settles a node in a
+// different chart around a singular arc (the `hand` model of MC3D's test resources, issue 13).
+// Every row either finds is a sufficient separation condition, so the product requires both to
+// come back empty: a result it certifies is then separating by the paper's search and by
+// upstream's own check.
+#ifndef ISPQ_CORE_SEPARATION_CHECK_H_
+#define ISPQ_CORE_SEPARATION_CHECK_H_
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/separation_search.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+enum class SeparationRule : uint8_t {
+  kBothSearches,     // the product's rule: the reference search and the sorted search
+  kReferenceSearch,  // upstream's verdict alone, to reproduce upstream results
+};
+
+class SeparationCheck {
+ public:
+  // The mesh must outlive this object; one instance serves one thread.
+  SeparationCheck(const TMesh& mesh, SeparationRule rule);
+
+  // The violations of the first search, in the order reference then sorted, that finds any;
+  // empty iff q passes every search of the rule. q must be consistent.
+  std::vector<SeparationViolation> FindFirstViolations(std::span<const int64_t> q);
+
+  // The violations of every search of the rule, reference search first.
+  std::vector<SeparationViolation> FindAllViolations(std::span<const int64_t> q);
+
+ private:
+  std::vector<SeparationSearch> searches_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SEPARATION_CHECK_H_
