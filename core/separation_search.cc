@@ -61,16 +61,17 @@ struct Walk {
 struct QueueEntry {
   double cost;
   int32_t k;
-  uint32_t order;  // insertion counter: deterministic ties
   int32_t walk;
 };
 
-// Heap order: the entry with the smallest (cost, k, order) is on top.
+// The reference's heap order (a std::priority_queue over (length, path size)): the smallest
+// (cost, k) on top, and among equal keys the heap's own layout decides. That is deterministic
+// for a given sequence of pushes and pops, so with the same pushes in the same order ties pop
+// exactly as in the reference, and rows can be compared with upstream's one for one
+// (tests/differential). Both block-box modes use it, so they differ in admissibility only.
 struct PopsLater {
   bool operator()(const QueueEntry& a, const QueueEntry& b) const {
-    if (a.cost != b.cost) return a.cost > b.cost;
-    if (a.k != b.k) return a.k > b.k;
-    return a.order > b.order;
+    return a.cost > b.cost || (a.cost == b.cost && a.k > b.k);
   }
 };
 
@@ -114,6 +115,7 @@ class SeparationSearch::Impl {
   // One search (separation.md section 3.4); true and `violation` filled on the first hit.
   bool Search(int config, std::span<const int64_t> q, SeparationViolation& violation);
   void Push(const Walk& walk);
+
   void BuildFan(const Walk& walk, bool at_start_box);
   void BuildCandidates(const Walk& walk);
   bool FindViolationDirs(const Walk& walk, bool at_start_box, std::span<const int64_t> q,
@@ -151,7 +153,6 @@ class SeparationSearch::Impl {
   DirSet link_axis_ = 0;
   std::vector<Walk> arena_;
   std::vector<QueueEntry> queue_;
-  uint32_t pushes_ = 0;
   int hopeful_in_queue_ = 0;         // queued walks that are not hopeless
   int64_t negative_slack_ = 0;       // sum of -q_a over the arcs with q_a < 0
   StampedSet seen_pre_, seen_post_;  // over nodes
@@ -303,7 +304,6 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   for (ArcId a : configs_.pre_branch_arcs(config)) pre_branch_arcs_.Insert(a);
   arena_.clear();
   queue_.clear();
-  pushes_ = 0;
   hopeful_in_queue_ = 0;
 
   Walk start;
@@ -355,7 +355,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
 
 void SeparationSearch::Impl::Push(const Walk& walk) {
   if (!walk.hopeless) ++hopeful_in_queue_;
-  queue_.push_back({walk.cost, walk.k, pushes_++, static_cast<int32_t>(arena_.size())});
+  queue_.push_back({walk.cost, walk.k, static_cast<int32_t>(arena_.size())});
   arena_.push_back(walk);
   std::push_heap(queue_.begin(), queue_.end(), PopsLater());
 }
@@ -526,8 +526,6 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
       next.walked |= dir_bit;
       next.monotone &= static_cast<DirSet>(~DirBit(Opposite(dir)));
       if (next.monotone == 0) continue;  // walked against the monotone direction
-      // A walk whose node is settled in its phase would be dropped when popped.
-      if ((next.branched ? seen_post_ : seen_pre_).Contains(head)) break;
       if (!along_link) next.cost += mesh_.arc_length(arc);
       next.parent = walk_index;
       next.step = h;

@@ -18,6 +18,10 @@ and every disagreement is classified:
   SIMPLE          consistency / extent / link / region verdicts differ
 and written to a TSV (one row per q) and a summary.
 
+With --compare-isp it also runs upstream's ISP (`oracle isp`) at every scaling of the final q
+and writes quality.tsv: both objectives, their ratio, and whether each side's q passes the other
+side's checks.
+
 Run by hand (CI cannot build the oracle), e.g.
 
   tests/differential/run_differential.py --oracle ~/oracle/oracle \\
@@ -124,6 +128,49 @@ def judge(task):
     return index, ours, ours_ref, upstream
 
 
+def objective(q, lengths, scaling):
+    return sum((x - scaling * length) ** 2 for x, length in zip(q, lengths))
+
+
+def upstream_isp(task):
+    """Upstream ISP at one scaling: its q, judged by our validator too."""
+    tmesh, scaling, args, hexex, workdir, tag = task
+    q_path = os.path.join(workdir, f"isp-{tag}.json")
+    command = [args.oracle, "isp", "--tmesh", tmesh, "--scaling", repr(scaling), "--out", q_path]
+    if hexex:
+        command += ["--hexex", hexex]
+    elif args.samples:
+        command += ["--samples", args.samples]
+    done = subprocess.run(command, capture_output=True, text=True, timeout=3600)
+    if done.returncode != 0 or not os.path.exists(q_path):
+        raise RuntimeError(f"{' '.join(command)}: {done.stdout.strip()} {done.stderr[-500:]}")
+    with open(q_path) as f:
+        q = json.load(f)["q"]
+    ours = run_ours(args.ours, tmesh, q_path, False)
+    os.remove(q_path)
+    return scaling, q, ours["valid"]
+
+
+def compare_isp(args, tmesh, model, instances, hexex, workdir, out):
+    with open(tmesh) as f:
+        lengths = [arc["length"] for arc in json.load(f)["arcs"]]
+    finals = [inst for inst in instances if inst["kind"] == "final"]
+    tasks = [(tmesh, inst["scaling"], args, hexex, workdir, f"{model}-{i}")
+             for i, inst in enumerate(finals)]
+    with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
+        upstream = list(pool.map(upstream_isp, tasks))
+    ratios = []
+    for inst, (scaling, q_up, up_valid_by_ours) in zip(finals, upstream):
+        ours = objective(inst["q"], lengths, scaling)
+        theirs = objective(q_up, lengths, scaling)
+        ratio = ours / theirs if theirs > 0 else (1.0 if ours == 0 else float("inf"))
+        ratios.append(ratio)
+        out.write(f"{model}\t{scaling!r}\t{ours!r}\t{theirs!r}\t{ratio:.6f}\t"
+                  f"{int(up_valid_by_ours)}\n")
+    out.flush()
+    return ratios
+
+
 def instances_of(args, tmesh):
     done = subprocess.run(
         [args.instances, "--tmesh", tmesh, "--random_scalings", str(args.random_scalings),
@@ -150,6 +197,8 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--out", required=True, help="output folder (TSV, summary, cases)")
+    parser.add_argument("--compare-isp", action="store_true",
+                        help="also run upstream's ISP at every scaling and compare objectives")
     args = parser.parse_args()
 
     os.makedirs(os.path.join(args.out, "cases"), exist_ok=True)
@@ -159,6 +208,11 @@ def main():
     counts = collections.Counter()
     per_kind = collections.Counter()
     workdir = tempfile.mkdtemp(prefix="ispq-diff-")
+    quality = None
+    ratios = {}
+    if args.compare_isp:
+        quality = open(os.path.join(args.out, "quality.tsv"), "w")
+        quality.write("model\tscaling\tours\tupstream_isp\tratio\tupstream_q_valid_by_ours\n")
     for tmesh in args.tmesh:
         model = os.path.basename(tmesh).removesuffix(".tmesh.json")
         hexex = None
@@ -189,8 +243,18 @@ def main():
                       f"{int(ours['valid'])}\t{int(ours_ref['valid'])}\t{int(upstream['valid'])}\t"
                       f"{len(ours_ref['rows'])}\t{len(upstream['rows'])}\t{','.join(classes)}\n")
         tsv.flush()
+        if quality:
+            ratios[model] = compare_isp(args, tmesh, model, instances, hexex, workdir, quality)
+            print(f"{model}: mean objective ratio to upstream ISP "
+                  f"{sum(ratios[model]) / len(ratios[model]):.4f}", flush=True)
         print(f"{model}: {len(instances)} q, classes so far {dict(counts)}", flush=True)
     summary = {"per_kind": dict(per_kind), "counts": dict(counts)}
+    if ratios:
+        every = [r for model_ratios in ratios.values() for r in model_ratios]
+        summary["isp_ratio"] = {"instances": len(every), "mean": sum(every) / len(every),
+                                "max": max(every),
+                                "worse": sum(r > 1 + 1e-9 for r in every),
+                                "better": sum(r < 1 - 1e-9 for r in every)}
     with open(os.path.join(args.out, "summary.json"), "w") as out:
         json.dump(summary, out, indent=1)
     print(json.dumps(summary, indent=1))

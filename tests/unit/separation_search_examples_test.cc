@@ -289,13 +289,15 @@ bool Contains(const std::vector<EntityId>& entities, EntityId e) {
 
 // Example A with g1 of the given target length: F's three entities report `f_row` through the
 // -v wall. Extrusion also makes the bottom cap edges (v = 0 at w = 0 and at w = 1) critical links
-// that the 2D example does not have; their cap sectors find F at zero distance too, through x1
-// or through J, two corridors of equal cost (steps along the link axis are free).
+// that the 2D example does not have; their cap sectors find F at zero distance too, through x1,
+// through J or up the right wall to y2, three corridors of equal cost (steps along the link axis
+// are free); which one a search reports is the heap's tie-break.
 void ExpectExampleARows(double g1_length, const Row2& f_row) {
   const Example example = Build(ExtrudeLayout(SeparationExampleA(g1_length)));
   const std::vector<SeparationViolation> found =
       Find(example, GridQ(example, {{{2, 1, 1}, {0, 0, 1}, {1}}}));
   const Arc2 d = {{1, 1}, {1, 2}}, k = {{2, 0}, {2, 1}}, l0 = {{0, 0}, {0, 1}};
+  const Arc2 r0 = {{3, 0}, {3, 1}}, r1 = {{3, 1}, {3, 2}};
   const std::vector<EntityId> f_entities = FeatureNodeEntities(example, {1, 2});
   const std::vector<EntityId> cap_edges = {LinkEntity(example, {0, 0, 0}, {3, 0, 0}),
                                            LinkEntity(example, {0, 0, 1}, {3, 0, 1})};
@@ -309,7 +311,9 @@ void ExpectExampleARows(double g1_length, const Row2& f_row) {
     if (Contains(f_entities, v.start_entity)) {
       EXPECT_EQ(row, f_row);
     } else {
-      EXPECT_TRUE(row == Row2Of({{1, d}, {1, l0}}) || row == Row2Of({{1, d}, {1, k}}));
+      EXPECT_TRUE(row == Row2Of({{1, d}, {1, l0}}) || row == Row2Of({{1, d}, {1, k}}) ||
+                  row == Row2Of({{1, r0}, {1, r1}}))
+          << ::testing::PrintToString(row);
     }
   }
 }
@@ -478,11 +482,23 @@ bool NegatesAnyOf(int rotation, int axes) {
   return false;
 }
 
+// The start configurations (entity, sector) that report a violation: what a block-box mode can
+// change, whatever row among equally cheap ones the heap's tie-break picks.
+std::vector<std::pair<EntityId, int>> ReportingStarts(
+    const std::vector<SeparationViolation>& found) {
+  std::vector<std::pair<EntityId, int>> starts;
+  for (const SeparationViolation& v : found) starts.push_back({v.start_entity, v.sector});
+  std::sort(starts.begin(), starts.end());
+  return starts;
+}
+
 // T9 in the reference-compatible mode, with every other block rotated: the deviation of the
 // reference made explicit. A block seen from the start frame through a rotation that negates an
 // axis along which the block has positive extent gets an inverted box and is never entered
 // (section 3.6). So a case loses rows exactly under the rotations negating such an axis of the
-// blocks its violating walks must enter, and never gains any.
+// blocks its violating walks must enter, and never gains any. (Compared by reporting start
+// configuration: where several rows tie, e.g. T7's three arcs, a different admissible set can
+// make the heap pick another of them.)
 TEST(SeparationExamplesTest, ReferenceModeLosesRowsUnderSignFlips) {
   constexpr int kU = 1, kV = 2, kW = 4;
   struct Expectation {
@@ -503,8 +519,9 @@ TEST(SeparationExamplesTest, ReferenceModeLosesRowsUnderSignFlips) {
     SCOPED_TRACE(c.spec.name);
     const Example plain = Build(c.spec);
     const std::vector<int64_t> q = GridQ(plain, c.intervals);
-    const auto sorted = RowSet(plain, Find(plain, q));
-    EXPECT_EQ(RowSet(plain, Find(plain, q, BlockBoxMode::kReferenceUnsorted)), sorted);
+    const auto sorted = ReportingStarts(Find(plain, q));
+    EXPECT_EQ(RowSet(plain, Find(plain, q, BlockBoxMode::kReferenceUnsorted)),
+              RowSet(plain, Find(plain, q)));
     for (int r = 0; r < Rotation::kCount; ++r) {
       SCOPED_TRACE(r);
       GridTMeshSpec spec = c.spec;
@@ -512,8 +529,8 @@ TEST(SeparationExamplesTest, ReferenceModeLosesRowsUnderSignFlips) {
         spec.block_rotations.push_back({b, r});
       }
       const Example rotated = Build(spec);
-      const auto reference = RowSet(
-          rotated, Find(rotated, GridQ(rotated, c.intervals), BlockBoxMode::kReferenceUnsorted));
+      const auto reference = ReportingStarts(
+          Find(rotated, GridQ(rotated, c.intervals), BlockBoxMode::kReferenceUnsorted));
       EXPECT_TRUE(std::includes(sorted.begin(), sorted.end(), reference.begin(), reference.end()));
       const bool loses = NegatesAnyOf(r, expectations[i].flipped_axes_that_lose);
       EXPECT_EQ(sorted.size() - reference.size(), loses ? expectations[i].rows_lost : 0);
