@@ -9,6 +9,8 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "core/arc_singularity.h"
+#include "core/critical_entities.h"
 #include "core/resolution_levels.h"
 
 namespace ispq {
@@ -28,8 +30,9 @@ class TMeshAssembler {
           &TMeshAssembler::CheckNodeArcIncidence, &TMeshAssembler::CheckArcPatchIncidence,
           &TMeshAssembler::CheckPatchBlockIncidence, &TMeshAssembler::CheckPatchGeometry,
           &TMeshAssembler::CheckBlockEdges, &TMeshAssembler::CheckBlockCoordinates,
-          &TMeshAssembler::DeriveAdjacency, &TMeshAssembler::CheckCriticalNodes,
-          &TMeshAssembler::LoadCriticalEntities, &TMeshAssembler::LoadLevels}) {
+          &TMeshAssembler::DeriveAdjacency, &TMeshAssembler::CheckArcSingularity,
+          &TMeshAssembler::CheckCriticalNodes, &TMeshAssembler::DeriveCriticalEntities,
+          &TMeshAssembler::LoadLevels}) {
       if (absl::Status status = (this->*step)(); !status.ok()) return status;
     }
     return std::move(mesh_);
@@ -96,6 +99,9 @@ class TMeshAssembler {
           !v1::FeatureType::Value_IsValid(node.feature_type())) {
         return Invalid("node ", n, ": unknown singularType or featureType");
       }
+      if (node.feature() && !proto_.features_present().nodes()) {
+        return Invalid("node ", n, ": marked feature but featuresPresent.nodes is false");
+      }
       mesh_.node_outgoing_.Append(node.outgoing_halfarcs());
       mesh_.node_critical_[n] = node.critical();
       mesh_.node_feature_[n] = node.feature();
@@ -130,6 +136,9 @@ class TMeshAssembler {
       if (arc.critical() != (arc.singular() != 0 || arc.feature())) {
         return Invalid("arc ", a, ": critical flag ", arc.critical(),
                        " contradicts singular != 0 || feature");
+      }
+      if (arc.feature() && !proto_.features_present().arcs()) {
+        return Invalid("arc ", a, ": marked feature but featuresPresent.arcs is false");
       }
       for (int32_t hp : arc.halfpatches()) {
         if (!ValidHalfpatch(hp)) return Invalid("arc ", a, ": halfpatch ", hp, " does not exist");
@@ -193,6 +202,9 @@ class TMeshAssembler {
     }
     if (patch.boundary() != (boundary_sides == 1)) {
       return Invalid("patch ", p, ": boundary flag ", patch.boundary(), " contradicts its blocks");
+    }
+    if (patch.feature() && !proto_.features_present().patches()) {
+      return Invalid("patch ", p, ": marked feature but featuresPresent.patches is false");
     }
     if (patch.critical() != (patch.boundary() || patch.feature())) {
       return Invalid("patch ", p, ": critical flag contradicts boundary || feature");
@@ -691,6 +703,26 @@ class TMeshAssembler {
     return absl::OkStatus();
   }
 
+  // The boundary flag and whether the singular mark is non-zero follow from the blocks around
+  // each arc (core/arc_singularity.h); criticality depends on both.
+  absl::Status CheckArcSingularity() {
+    const std::vector<int> quarter_turns = QuarterTurnsAroundArcs(mesh_);
+    for (ArcId a = 0; a < num_arcs_; ++a) {
+      const bool on_boundary = ArcOnBoundary(mesh_, a);
+      if (mesh_.arc_boundary(a) != on_boundary) {
+        return Invalid("arc ", a, ": boundary flag ", mesh_.arc_boundary(a), " but it ",
+                       on_boundary ? "lies" : "does not lie", " on a boundary patch");
+      }
+      if (SingularByQuarterTurns(quarter_turns[a], on_boundary) != (mesh_.arc_singular(a) != 0)) {
+        return Invalid("arc ", a, ": singular mark ", mesh_.arc_singular(a), " contradicts the ",
+                       quarter_turns[a], " quarter turns of the blocks around this ",
+                       on_boundary ? "boundary" : "interior", " arc (singular iff not ",
+                       on_boundary ? 2 : 4, ")");
+      }
+    }
+    return absl::OkStatus();
+  }
+
   // Recomputes the critical-node rules (shared/separation.md section 2.1) and cross-checks the
   // file's flags: the search relies on them and a mismatch means the mesh was built differently.
   absl::Status CheckCriticalNodes() {
@@ -734,65 +766,57 @@ class TMeshAssembler {
     return absl::OkStatus();
   }
 
-  absl::Status LoadCriticalEntities() {
-    const int count = proto_.critical_entities_size();
-    mesh_.entity_dim_.resize(count);
-    mesh_.entity_nodes_.resize(count);
-    for (int e = 0; e < count; ++e) {
-      const v1::CriticalEntity& entity = proto_.critical_entities(e);
-      if (entity.id() != e) return Invalid("critical entity ", e, ": id is ", entity.id());
-      for (int32_t h : entity.halfarcs()) {
-        if (!ValidHalfarc(h))
-          return Invalid("critical entity ", e, ": halfarc ", h, " does not exist");
-      }
-      for (int32_t p : entity.patches()) {
-        if (!ValidPatch(p)) return Invalid("critical entity ", e, ": patch ", p, " does not exist");
-      }
-      for (int32_t a : entity.boundary_arcs()) {
-        if (!ValidArc(a)) return Invalid("critical entity ", e, ": arc ", a, " does not exist");
-      }
-      switch (entity.dim()) {
-        case 0:
-          if (!ValidNode(entity.node_from()) || entity.node_to() != entity.node_from() ||
-              !mesh_.node_critical(entity.node_from())) {
-            return Invalid("critical entity ", e, ": a node entity needs one critical node");
-          }
-          break;
-        case 1: {
-          if (entity.halfarcs_size() == 0 || !ValidNode(entity.node_from()) ||
-              !ValidNode(entity.node_to())) {
-            return Invalid("critical entity ", e, ": a link needs halfarcs and two end nodes");
-          }
-          NodeId at = entity.node_from();
-          for (int32_t h : entity.halfarcs()) {
-            if (mesh_.tail(h) != at)
-              return Invalid("critical entity ", e, ": link is not a chain at halfarc ", h);
-            if (!mesh_.arc_critical(ArcOf(h)))
-              return Invalid("critical entity ", e, ": link arc ", ArcOf(h), " is not critical");
-            at = mesh_.head(h);
-          }
-          if (at != entity.node_to())
-            return Invalid("critical entity ", e, ": link does not end at node ", entity.node_to());
-          break;
-        }
-        case 2:
-          if (entity.patches_size() == 0)
-            return Invalid("critical entity ", e, ": a region needs patches");
-          for (int32_t p : entity.patches()) {
-            if (!mesh_.patch_critical(p))
-              return Invalid("critical entity ", e, ": region patch ", p, " is not critical");
-          }
-          break;
-        default:
+  // The entities are derived from the mesh (core/critical_entities.h), never taken from the
+  // request: the separation certificate depends on them. A request may leave the list out; a
+  // list it sends must be the derived one.
+  absl::Status DeriveCriticalEntities() {
+    const std::vector<CriticalEntity> derived = ispq::DeriveCriticalEntities(mesh_);
+    const int listed = proto_.critical_entities_size();
+    if (listed != 0) {
+      for (int e = 0; e < listed; ++e) {
+        const v1::CriticalEntity& entity = proto_.critical_entities(e);
+        if (entity.id() != e) return Invalid("critical entity ", e, ": id is ", entity.id());
+        if (entity.dim() < 0 || entity.dim() > 2) {
           return Invalid("critical entity ", e, ": dim ", entity.dim(), " is not 0, 1 or 2");
+        }
+        const CriticalEntity given = EntityFromProto(entity);
+        if (e >= static_cast<int>(derived.size())) {
+          return Invalid("critical entity ", e, ": the mesh has only ", derived.size(),
+                         " critical entities, the request lists ", listed);
+        }
+        if (!(given == derived[e])) {
+          return Invalid("critical entity ", e, ": the mesh makes it ",
+                         DescribeCriticalEntity(derived[e]), ", the request says ",
+                         DescribeCriticalEntity(given));
+        }
       }
-      mesh_.entity_dim_[e] = static_cast<EntityDim>(entity.dim());
-      mesh_.entity_nodes_[e] = {entity.node_from(), entity.node_to()};
-      mesh_.entity_halfarcs_.Append(entity.halfarcs());
-      mesh_.entity_patches_.Append(entity.patches());
-      mesh_.entity_boundary_arcs_.Append(entity.boundary_arcs());
+      if (listed < static_cast<int>(derived.size())) {
+        return Invalid("critical entity ", listed, ": missing from the request (the mesh makes it ",
+                       DescribeCriticalEntity(derived[listed]), ")");
+      }
+    }
+    for (const CriticalEntity& entity : derived) {
+      mesh_.entity_dim_.push_back(entity.dim);
+      mesh_.entity_nodes_.push_back({entity.node_from, entity.node_to});
+      mesh_.entity_halfarcs_.Append(entity.halfarcs);
+      mesh_.entity_patches_.Append(entity.patches);
+      mesh_.entity_boundary_arcs_.Append(entity.boundary_arcs);
     }
     return absl::OkStatus();
+  }
+
+  static CriticalEntity EntityFromProto(const v1::CriticalEntity& proto) {
+    CriticalEntity entity;
+    entity.dim = proto.dim() == 1 ? EntityDim::kLink
+                                  : (proto.dim() == 2 ? EntityDim::kRegion : EntityDim::kNode);
+    if (entity.dim != EntityDim::kRegion) {
+      entity.node_from = proto.node_from();
+      entity.node_to = proto.node_to();
+    }
+    entity.halfarcs.assign(proto.halfarcs().begin(), proto.halfarcs().end());
+    entity.patches.assign(proto.patches().begin(), proto.patches().end());
+    entity.boundary_arcs.assign(proto.boundary_arcs().begin(), proto.boundary_arcs().end());
+    return entity;
   }
 
   // Levels are optional; when present they must be the format's levels for these lengths.

@@ -87,6 +87,65 @@ std::vector<Corruption> Corruptions() {
          }
        },
        "critical flag 1 contradicts singular"},
+      {"arc singular mark removed",
+       [](v1::TMesh& t) {
+         // A singular arc claimed regular (and so not critical): the blocks around it decide.
+         for (int a = 0; a < t.arcs_size(); ++a) {
+           v1::Arc& arc = *t.mutable_arcs(a);
+           if (arc.singular() != 0 && !arc.feature()) {
+             arc.set_singular(0);
+             arc.set_critical(false);
+             return;
+           }
+         }
+       },
+       "singular mark 0 contradicts the"},
+      {"arc singular mark invented",
+       [](v1::TMesh& t) {
+         for (int a = 0; a < t.arcs_size(); ++a) {
+           v1::Arc& arc = *t.mutable_arcs(a);
+           if (arc.singular() == 0) {
+             arc.set_singular(1);
+             arc.set_critical(true);
+             return;
+           }
+         }
+       },
+       "singular mark 1 contradicts the"},
+      {"arc boundary flag",
+       [](v1::TMesh& t) {
+         for (int a = 0; a < t.arcs_size(); ++a) {
+           if (!t.arcs(a).boundary()) {
+             t.mutable_arcs(a)->set_boundary(true);
+             return;
+           }
+         }
+       },
+       "boundary flag 1 but it does not lie on a boundary patch"},
+      {"arc feature without features present",
+       [](v1::TMesh& t) {
+         // The sample marks features; a file saying it has none may not mark any.
+         t.mutable_features_present()->set_arcs(false);
+       },
+       "marked feature but featuresPresent.arcs is false"},
+      {"critical entity missing", [](v1::TMesh& t) { t.mutable_critical_entities()->RemoveLast(); },
+       "missing from the request (the mesh makes it region"},
+      {"critical entity extra",
+       [](v1::TMesh& t) {
+         v1::CriticalEntity extra = t.critical_entities(0);
+         extra.set_id(t.critical_entities_size());
+         *t.add_critical_entities() = extra;
+       },
+       "critical entities, the request lists"},
+      {"critical node entity dropped",
+       [](v1::TMesh& t) {
+         // The list without its first node entity, renumbered: every later entity shifts.
+         t.mutable_critical_entities()->DeleteSubrange(0, 1);
+         for (int e = 0; e < t.critical_entities_size(); ++e) {
+           t.mutable_critical_entities(e)->set_id(e);
+         }
+       },
+       "critical entity 0: the mesh makes it node"},
       {"arc halfpatch huge id",
        [](v1::TMesh& t) { t.mutable_arcs(2)->set_halfpatches(0, kHugeId); },
        "arc 2: halfpatch 2147483647 does not exist"},
@@ -249,7 +308,7 @@ std::vector<Corruption> Corruptions() {
            }
          }
        },
-       "link is not a chain"},
+       "the request says link"},
       {"region of non-critical patch",
        [](v1::TMesh& t) {
          int non_critical = -1;
@@ -263,7 +322,7 @@ std::vector<Corruption> Corruptions() {
            }
          }
        },
-       "is not critical"},
+       "the request says region"},
       {"level percent", [](v1::TMesh& t) { t.mutable_levels(2)->set_percent(3); },
        "level 2: percent 3"},
       {"level scaling", [](v1::TMesh& t) { t.mutable_levels(4)->set_scaling(1.0); },
@@ -295,6 +354,31 @@ TEST(CorruptionTest, TableIsLargeAndAllKindsDiffer) {
   for (const Corruption& c : Corruptions()) names.insert(c.name);
   EXPECT_GE(names.size(), 25u);
   EXPECT_EQ(names.size(), Corruptions().size());
+}
+
+// Critical entities are derived from the mesh, never taken from the request (issue 7): a mesh
+// without its list gets exactly the file's entities, on every real mesh.
+TEST(TMeshFromProtoTest, CriticalEntitiesAreDerivedWhenTheListIsLeftOut) {
+  const std::vector<std::string> files = testing::SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (const std::string& file : files) {
+    v1::TMesh proto = testing::LoadProtoOrDie(file);
+    const TMesh listed = testing::TMeshOrDie(proto);
+    proto.clear_critical_entities();
+    const absl::StatusOr<TMesh> derived = TMeshFromProto(proto);
+    ASSERT_TRUE(derived.ok()) << file << ": " << derived.status();
+    ASSERT_EQ(derived->num_entities(), listed.num_entities()) << file;
+    ASSERT_GT(derived->num_entities(), 0) << file;
+    for (EntityId e = 0; e < listed.num_entities(); ++e) {
+      EXPECT_EQ(derived->entity_dim(e), listed.entity_dim(e)) << file << " " << e;
+      EXPECT_EQ(derived->entity_node_from(e), listed.entity_node_from(e)) << file << " " << e;
+      EXPECT_EQ(derived->entity_node_to(e), listed.entity_node_to(e)) << file << " " << e;
+      EXPECT_THAT(derived->entity_halfarcs(e),
+                  ::testing::ElementsAreArray(listed.entity_halfarcs(e)));
+      EXPECT_THAT(derived->entity_patches(e),
+                  ::testing::ElementsAreArray(listed.entity_patches(e)));
+    }
+  }
 }
 
 TEST(TMeshFromProtoTest, UncorruptedSampleIsAccepted) {
