@@ -58,7 +58,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     v1::ValidationVerdict verdict;
     verdict.set_valid(valid);
     verdict.set_objective(objective);
-    verdict.set_hexes(valid ? HexCount(*mesh, *q) : 0);
+    verdict.set_hexes(valid ? *HexCount(*mesh, *q) : 0);  // a valid q has a representable count
     verdict.set_consistency_violations(static_cast<int32_t>(report->consistency.size()));
     verdict.set_simple_violations(static_cast<int32_t>(report->simple.size()));
     verdict.set_separation_violations(static_cast<int32_t>(report->separation.size()));
@@ -73,7 +73,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     std::cout << json << "\n";
   } else {
     std::cout << (valid ? "valid" : "NOT valid") << ": objective " << objective;
-    if (valid) std::cout << ", " << HexCount(*mesh, *q) << " hexes";
+    if (valid) std::cout << ", " << *HexCount(*mesh, *q) << " hexes";
     std::cout << "\n";
     if (!valid) std::cout << report->Describe();
   }

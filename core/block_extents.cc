@@ -19,14 +19,15 @@ int64_t BlockExtent(const TMesh& mesh, BlockId b, int axis, std::span<const int6
   return SumOver(ExtentRowArcs(mesh, b, axis), q);
 }
 
-int64_t HexCount(const TMesh& mesh, std::span<const int64_t> q) {
+std::optional<int64_t> HexCount(const TMesh& mesh, std::span<const int64_t> q) {
   int64_t hexes = 0;
   for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
     int64_t product = 1;
     for (int axis = 0; axis < 3; ++axis) {
-      product *= SumOver(mesh.block_edge_arcs(b, EdgeCode(axis, false, false)), q);
+      const int64_t extent = SumOver(mesh.block_edge_arcs(b, EdgeCode(axis, false, false)), q);
+      if (__builtin_mul_overflow(product, extent, &product)) return std::nullopt;
     }
-    hexes += product;
+    if (__builtin_add_overflow(hexes, product, &hexes)) return std::nullopt;
   }
   return hexes;
 }

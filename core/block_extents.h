@@ -6,6 +6,7 @@
 #define ISPQ_CORE_BLOCK_EXTENTS_H_
 
 #include <cstdint>
+#include <optional>
 #include <span>
 
 #include "core/tmesh.h"
@@ -17,8 +18,10 @@ std::span<const ArcId> ExtentRowArcs(const TMesh& mesh, BlockId b, int axis);
 
 int64_t BlockExtent(const TMesh& mesh, BlockId b, int axis, std::span<const int64_t> q);
 
-// Sum over blocks of the product of the three extents (meaningful for a valid q only).
-int64_t HexCount(const TMesh& mesh, std::span<const int64_t> q);
+// Sum over blocks of the product of the three extents (meaningful for a valid q only); nullopt if
+// it does not fit int64. q must lie in the representable range (core/quantization_limits.h), so
+// that the extents themselves do.
+std::optional<int64_t> HexCount(const TMesh& mesh, std::span<const int64_t> q);
 
 // The same sum over the continuous (unscaled) lengths: the hex count at scaling 1 before
 // rounding. Scaling by s multiplies it by s^3.

@@ -87,6 +87,7 @@ absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationO
     }
     options.time_limit_seconds = seconds;
   }
+  if (absl::Status valid = ValidateQuantizeOptions(mesh, options); !valid.ok()) return valid;
   return options;
 }
 
@@ -94,6 +95,7 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
                                                  const TMesh& mesh) {
   v1::QuantizationResult proto;
   proto.mutable_q()->Reserve(static_cast<int>(result.q.size()));
+  // Quantize never returns a q outside +-kMaxArcLength (core/quantization_limits.h): no wrap.
   for (int64_t value : result.q) proto.add_q(static_cast<int32_t>(value));
   proto.set_objective(result.objective);
   proto.set_hexes(result.valid ? result.hexes : 0);

@@ -2,7 +2,9 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "core/block_extents.h"
 #include "core/consistency_matrix.h"
+#include "core/quantization_limits.h"
 
 namespace ispq {
 namespace {
@@ -54,6 +56,11 @@ std::string DescribeSeparation(const SeparationViolation& v) {
 
 std::string ValidationReport::Describe(int max_lines) const {
   std::vector<std::string> lines;
+  for (ArcId a : out_of_range) {
+    lines.push_back(
+        absl::StrCat("arc ", a, ": length outside the representable range +-", kMaxArcLength));
+  }
+  if (hexes_overflow) lines.push_back("the hex count does not fit a 64-bit integer");
   for (const ConsistencyViolation& c : consistency) {
     lines.push_back(absl::StrCat("patch ", c.patch, " axis ", AxisName(c.axis),
                                  ": sides differ by ", c.difference));
@@ -79,6 +86,10 @@ absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::sp
         "the quantization has ", q.size(), " entries but the mesh has ", mesh.num_arcs(), " arcs"));
   }
   ValidationReport report;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    if (q[a] > kMaxArcLength || q[a] < -kMaxArcLength) report.out_of_range.push_back(a);
+  }
+  if (!report.out_of_range.empty()) return report;
   const ConsistencyMatrix consistency(mesh);
   for (int r = 0; r < consistency.num_rows(); ++r) {
     const int64_t difference = consistency.RowValue(r, q);
@@ -98,6 +109,7 @@ absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::sp
     SeparationCheck check(mesh, options.separation);
     report.separation = check.FindAllViolations(q);
     report.separation_checked = true;
+    report.hexes_overflow = !HexCount(mesh, q).has_value();
   }
   return report;
 }

@@ -33,6 +33,11 @@ struct ValidationOptions {
 };
 
 struct ValidationReport {
+  // Arcs whose |q_a| exceeds kMaxArcLength (core/quantization_limits.h). When there are any,
+  // nothing else is checked: sums over such values may not be representable.
+  std::vector<ArcId> out_of_range;
+  // The hex count does not fit int64 (checked only for a q that is otherwise valid).
+  bool hexes_overflow = false;
   std::vector<ConsistencyViolation> consistency;
   std::vector<SimpleRow> simple;  // violated simple rows (negative extents, collapsed links...)
   // Left-hand side of each violated simple row at q (parallel to `simple`).
@@ -44,7 +49,8 @@ struct ValidationReport {
 
   bool consistent() const { return consistency.empty(); }
   bool valid() const {
-    return consistency.empty() && simple.empty() && separation_checked && separation.empty();
+    return out_of_range.empty() && !hexes_overflow && consistency.empty() && simple.empty() &&
+           separation_checked && separation.empty();
   }
   // One line per problem, naming the elements, at most max_lines lines.
   std::string Describe(int max_lines = 20) const;

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/block_extents.h"
 #include "core/integer_sheet_pump.h"
+#include "core/quantization_limits.h"
 #include "core/quantization_validator.h"
 
 namespace ispq {
@@ -24,10 +25,7 @@ const char* TerminationName(Termination termination) {
   return "unknown";
 }
 
-absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions& options,
-                                        ProgressObserver* observer,
-                                        const SolveInterrupter* interrupter) {
-  const auto start = std::chrono::steady_clock::now();
+absl::Status ValidateQuantizeOptions(const TMesh& mesh, const QuantizeOptions& options) {
   if (!std::isfinite(options.scaling) || options.scaling <= 0) {
     return absl::InvalidArgumentError(
         absl::StrCat("scaling must be finite and > 0, got ", options.scaling));
@@ -36,6 +34,14 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
     return absl::InvalidArgumentError(
         absl::StrCat("time_limit_seconds must be >= 0, got ", options.time_limit_seconds));
   }
+  return CheckTargetsRepresentable(mesh, options.scaling);
+}
+
+absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions& options,
+                                        ProgressObserver* observer,
+                                        const SolveInterrupter* interrupter) {
+  const auto start = std::chrono::steady_clock::now();
+  if (absl::Status valid = ValidateQuantizeOptions(mesh, options); !valid.ok()) return valid;
 
   absl::StatusOr<IspOutcome> outcome =
       RunIntegerSheetPump(mesh, options, IspTuning{}, observer, interrupter);
@@ -48,6 +54,11 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
   absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q, validation);
   if (!report.ok()) return report.status();
 
+  if (!report->out_of_range.empty() || report->hexes_overflow) {
+    // Never hand out a value that the API's int32 q or int64 hex count would wrap.
+    return absl::InternalError(
+        absl::StrCat("the quantization left the representable range: ", report->Describe(3)));
+  }
   QuantizeResult result;
   result.termination = outcome->termination;
   result.valid = report->valid();
@@ -67,7 +78,7 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
     objective += d * d;
   }
   result.objective = objective;
-  result.hexes = result.valid ? HexCount(mesh, result.q) : 0;
+  result.hexes = result.valid ? *HexCount(mesh, result.q) : 0;
   result.stats = outcome->stats;
   result.stats.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -68,6 +68,12 @@ struct QuantizeResult {
   QuantizeStats stats;
 };
 
+// INVALID_ARGUMENT naming the option or the limit if `options` cannot be used on `mesh`: a
+// scaling that is not finite and > 0 or whose targets leave the representable range
+// (core/quantization_limits.h), a negative or NaN time limit. Quantize checks this first;
+// front ends call it to refuse a request before queuing it.
+absl::Status ValidateQuantizeOptions(const TMesh& mesh, const QuantizeOptions& options);
+
 // INVALID_ARGUMENT for bad options; INTERNAL if the LP solver fails unexpectedly.
 // `observer` and `interrupter` may be null.
 absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions& options,

@@ -4,6 +4,11 @@
 // that moves it across its target costs about |A| (tier 2), and one that moves it further away
 // costs at least |A|^2 (tier 3). Each tier outweighs all cheaper tiers combined, so the LP only
 // pays for an unfavorable move when no combination of favorable ones can do the job.
+//
+// A bundle's weight is capped at kMaxSheetWeight: CLP refuses objective coefficients beyond
+// 1e25, and tier 3 grows with |A|^2 times the distance to the target. The cap only merges
+// weights that are already larger than any sum of tier-1 and tier-2 weights of a mesh the
+// service accepts, so the order of the tiers is kept.
 #ifndef ISPQ_CORE_SHEET_WEIGHTS_H_
 #define ISPQ_CORE_SHEET_WEIGHTS_H_
 
@@ -11,6 +16,8 @@
 #include <span>
 
 namespace ispq {
+
+inline constexpr double kMaxSheetWeight = 1e20;
 
 // Weight of moving one arc by one unit, given epsilon, the signed distance still to go to the
 // target in the direction of the move (eq. 3: l - q when inflating, q - l when deflating).
@@ -35,7 +42,7 @@ inline BundleWeights BundleSheetWeights(std::span<const double> targets, double 
     w.inflate += SheetWeight(target - value, num_arcs);
     w.deflate += SheetWeight(value - target, num_arcs);
   }
-  return w;
+  return {std::min(w.inflate, kMaxSheetWeight), std::min(w.deflate, kMaxSheetWeight)};
 }
 
 // Alternative weights: a bundle's exact objective change for one unit of movement, floored at a
@@ -48,7 +55,7 @@ inline BundleWeights BundleMarginalWeights(std::span<const double> targets, doub
     w.inflate += std::max(1 - 2 * (target - value), floor);
     w.deflate += std::max(1 - 2 * (value - target), floor);
   }
-  return w;
+  return {std::min(w.inflate, kMaxSheetWeight), std::min(w.deflate, kMaxSheetWeight)};
 }
 
 }  // namespace ispq

@@ -15,6 +15,7 @@
 #include "grpcpp/support/byte_buffer.h"
 #include "gtest/gtest.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/grid_tmesh_builder.h"
 
 namespace ispq::testing {
 namespace {
@@ -246,6 +247,90 @@ TEST_F(HostileInputTest, BadPaging) {
   v1::ListJobsRequest enormous;
   enormous.set_page_size(std::numeric_limits<int32_t>::max());
   EXPECT_TRUE(client_->ListJobs(enormous).ok());
+}
+
+// Scalings that put targets beyond the representable range are refused naming the limit; all
+// others give a valid result (issue 7: 1e9 used to come back "valid" with q wrapped around
+// int32, 1e20 aborted the whole server inside CLP). The server is checked after every case.
+TEST_F(HostileInputTest, ExtremeScalingsNeverCrashOrWrap) {
+  const std::vector<double> factors = {1e-300, 5e-324, 1e-6, 1e3,  1e6,  1e7,   1e8,
+                                       1e9,    1e12,   1e15, 1e20, 1e25, 1e100, 1e300};
+  for (double factor : factors) {
+    SCOPED_TRACE(factor);
+    v1::QuantizeRequest request = NotchRequest();
+    request.mutable_options()->mutable_scaling()->set_factor(factor);
+    const client::JobOutcome outcome = client_->Quantize(request, StreamFor(kJobTimeout));
+    if (outcome.status.ok()) {
+      ASSERT_TRUE(outcome.result.has_value());
+      EXPECT_TRUE(IsValidResult(NotchMesh(), *outcome.result));
+    } else {
+      EXPECT_EQ(outcome.status.code(), absl::StatusCode::kInvalidArgument) << outcome.status;
+      EXPECT_THAT(std::string(outcome.status.message()), HasSubstr("above the limit"));
+    }
+    ASSERT_TRUE(server_->running()) << server_->Log();
+  }
+  for (int64_t hexes : {int64_t{1} << 50, int64_t{1} << 62}) {
+    v1::QuantizeRequest request = NotchRequest();
+    request.mutable_options()->mutable_scaling()->set_target_hexes(hexes);
+    ExpectRefused(request, absl::StatusCode::kInvalidArgument, "above the limit");
+  }
+}
+
+// A valid mesh whose lengths span 30 orders of magnitude, at every level: level 0 asks for
+// targets of 5e29 and is refused; the others solve. (Level 0 used to abort the server on CLP's
+// objective-coefficient assertion.)
+TEST_F(HostileInputTest, ExtremeLengthSpreadAtEveryLevel) {
+  GridTMeshSpec spec;
+  spec.blocks = {{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}, {{0, 1, 0}, {1, 2, 1}}};
+  spec.spacing[0] = {1e-30, 1.0};
+  spec.spacing[1] = {1.0, 1e-12};
+  const absl::StatusOr<GridTMesh> grid = BuildGridTMesh(spec);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  for (const v1::Level& level : grid->proto().levels()) {
+    SCOPED_TRACE(level.percent());
+    const client::JobOutcome outcome =
+        client_->Quantize(RequestFor(grid->proto(), level.percent()), StreamFor(kJobTimeout));
+    if (outcome.status.ok()) {
+      EXPECT_TRUE(IsValidResult(grid->proto(), *outcome.result));
+    } else {
+      EXPECT_EQ(outcome.status.code(), absl::StatusCode::kInvalidArgument) << outcome.status;
+      EXPECT_THAT(std::string(outcome.status.message()), HasSubstr("above the limit"));
+    }
+    ASSERT_TRUE(server_->running()) << server_->Log();
+  }
+}
+
+// Critical entities are the mesh's, not the client's (issue 7): without its list the notch is
+// quantized exactly as with it, and the result is valid for the original file; a partial or
+// altered list is refused naming the first entity that differs.
+TEST_F(HostileInputTest, CriticalEntitiesAreNotTakenOnTrust) {
+  v1::TMesh stripped = NotchMesh();
+  stripped.clear_critical_entities();
+  const client::JobOutcome outcome =
+      client_->Quantize(RequestFor(stripped, 100), StreamFor(kJobTimeout));
+  ASSERT_TRUE(outcome.status.ok()) << outcome.status;
+  EXPECT_TRUE(IsValidResult(NotchMesh(), *outcome.result));
+  const client::JobOutcome original =
+      client_->Quantize(RequestFor(NotchMesh(), 100), StreamFor(kJobTimeout));
+  ASSERT_TRUE(original.status.ok()) << original.status;
+  EXPECT_THAT(outcome.result->q(), ::testing::ElementsAreArray(original.result->q()));
+
+  v1::TMesh partial = NotchMesh();
+  partial.mutable_critical_entities()->DeleteSubrange(partial.critical_entities_size() / 2,
+                                                      partial.critical_entities_size() / 2);
+  v1::QuantizeRequest request = RequestFor(partial, 100);
+  ExpectRefused(request, absl::StatusCode::kInvalidArgument, "missing from the request");
+
+  v1::TMesh demoted = NotchMesh();  // a singular arc claimed regular, flags made to agree
+  for (v1::Arc& arc : *demoted.mutable_arcs()) {
+    if (arc.singular() != 0 && !arc.feature()) {
+      arc.set_singular(0);
+      arc.set_critical(false);
+      break;
+    }
+  }
+  ExpectRefused(RequestFor(demoted, 100), absl::StatusCode::kInvalidArgument,
+                "singular mark 0 contradicts");
 }
 
 TEST_F(HostileInputTest, RefusalsAreCounted) {

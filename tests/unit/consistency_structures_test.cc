@@ -28,7 +28,7 @@ TEST(ConsistencyStructuresTest, SingleCube) {
     q[a] = extent_of_axis[AxisOf(*cube.HalfarcDirInBlock(HalfarcOf(a, false), 0))];
   }
   for (int r = 0; r < consistency.num_rows(); ++r) EXPECT_EQ(consistency.RowValue(r, q), 0);
-  EXPECT_EQ(HexCount(cube, q), 24);
+  EXPECT_EQ(HexCount(cube, q), std::optional<int64_t>(24));
   for (int axis = 0; axis < 3; ++axis)
     EXPECT_EQ(BlockExtent(cube, 0, axis, q), extent_of_axis[axis]);
 

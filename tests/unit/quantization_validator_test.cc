@@ -6,6 +6,7 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "core/quantization_limits.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/support/consistent_quantizations.h"
@@ -50,6 +51,39 @@ TEST(QuantizationValidatorTest, ValidCube) {
   EXPECT_TRUE(report->valid());
   EXPECT_TRUE(report->separation_checked);
   EXPECT_EQ(report->Describe(), "");
+}
+
+// The last line of defence against overflow (issue 7): values a 32-bit q would wrap and hex
+// counts beyond int64 are never certified, however consistent and separated they are.
+TEST(QuantizationValidatorTest, RefusesValuesOutsideTheRepresentableRange) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const absl::StatusOr<ValidationReport> wrapped =
+      ValidateQuantization(cube, CubeQ(cube, int64_t{1} << 31, 1, 1));
+  ASSERT_TRUE(wrapped.ok());
+  EXPECT_FALSE(wrapped->valid());
+  EXPECT_EQ(wrapped->out_of_range.size(), 4u);  // the four u-edges
+  EXPECT_THAT(wrapped->Describe(), HasSubstr("outside the representable range"));
+
+  const absl::StatusOr<ValidationReport> negative =
+      ValidateQuantization(cube, CubeQ(cube, 1, -(int64_t{1} << 40), 1));
+  ASSERT_TRUE(negative.ok());
+  EXPECT_EQ(negative->out_of_range.size(), 4u);
+  EXPECT_FALSE(negative->valid());
+
+  // In range arc by arc, but 2^90 hexes.
+  const absl::StatusOr<ValidationReport> huge =
+      ValidateQuantization(cube, CubeQ(cube, kMaxArcLength, kMaxArcLength, kMaxArcLength));
+  ASSERT_TRUE(huge.ok());
+  EXPECT_TRUE(huge->out_of_range.empty());
+  EXPECT_TRUE(huge->consistent());
+  EXPECT_TRUE(huge->hexes_overflow);
+  EXPECT_FALSE(huge->valid());
+  EXPECT_THAT(huge->Describe(), HasSubstr("hex count does not fit"));
+
+  const absl::StatusOr<ValidationReport> large_but_fine =
+      ValidateQuantization(cube, CubeQ(cube, kMaxArcLength, kMaxArcLength, 1));
+  ASSERT_TRUE(large_but_fine.ok());
+  EXPECT_TRUE(large_but_fine->valid()) << large_but_fine->Describe();
 }
 
 TEST(QuantizationValidatorTest, InconsistentCube) {

@@ -9,9 +9,11 @@
 
 #include "absl/status/status.h"
 #include "core/block_extents.h"
+#include "core/quantization_limits.h"
 #include "core/quantization_validator.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "tests/support/grid_tmesh_builder.h"
 #include "tests/support/test_data.h"
 
 namespace ispq {
@@ -21,6 +23,7 @@ using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
 using ::ispq::testing::SharedTMeshFiles;
 using ::ispq::testing::ShortName;
+using ::testing::HasSubstr;
 
 double Objective(const TMesh& mesh, double scaling, const std::vector<int64_t>& q) {
   double sum = 0;
@@ -45,7 +48,7 @@ void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
   EXPECT_NEAR(result.objective, Objective(mesh, options.scaling, result.q),
               1e-9 * (1 + result.objective))
       << context;
-  EXPECT_EQ(result.hexes, HexCount(mesh, result.q)) << context;
+  EXPECT_EQ(result.hexes, HexCount(mesh, result.q).value_or(-1)) << context;
   EXPECT_GT(result.stats.lp_solves, 0) << context;
   EXPECT_EQ(result.stats.lcd_one + result.stats.lcd_two + result.stats.lcd_more > 0,
             result.stats.lp_solves > 0)
@@ -220,6 +223,50 @@ TEST(QuantizerTest, RejectsBadOptions) {
     options.time_limit_seconds = limit;
     EXPECT_EQ(Quantize(cube, options).status().code(), absl::StatusCode::kInvalidArgument) << limit;
   }
+}
+
+// Targets beyond the representable range are refused up front, naming the limit (issue 7): at
+// s = 1e9 the notch's q used to wrap around int32 and be certified valid, and at 1e20 CLP aborted
+// the process on an objective coefficient above 1e25.
+TEST(QuantizerTest, RefusesTargetsOutsideTheRepresentableRange) {
+  const TMesh notch = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  for (double scaling : {1e9, 1e12, 1e20, 1e300}) {
+    QuantizeOptions options;
+    options.scaling = scaling;
+    const absl::StatusOr<QuantizeResult> result = Quantize(notch, options);
+    EXPECT_EQ(result.status().code(), absl::StatusCode::kInvalidArgument) << scaling;
+    EXPECT_THAT(std::string(result.status().message()), HasSubstr("above the limit")) << scaling;
+  }
+  // Just inside the limit on the longest arc, the result is valid and within the range.
+  double longest = 0;
+  for (ArcId a = 0; a < notch.num_arcs(); ++a) longest = std::max(longest, notch.arc_length(a));
+  QuantizeOptions options;
+  options.scaling = std::cbrt(0.5 * kMaxTargetHexes / ContinuousHexVolume(notch));
+  options.scaling = std::min(options.scaling, 0.5 * kMaxTargetLength / longest);
+  const absl::StatusOr<QuantizeResult> result = Quantize(notch, options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  ExpectValidResult(notch, options, *result, "largest scaling");
+  for (int64_t x : result->q) EXPECT_LE(std::abs(x), kMaxArcLength);
+}
+
+// A valid mesh whose arcs span 30 orders of magnitude: level 0 puts the shortest arc at 1/2 and
+// the longest at 5e29, which is refused; levels that keep the targets in range still solve.
+TEST(QuantizerTest, ExtremeLengthSpreadIsRefusedAtLevelZero) {
+  testing::GridTMeshSpec spec;
+  spec.blocks = {{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};
+  spec.spacing[0] = {1e-30, 1.0};
+  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(spec);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[0].scaling;
+  const absl::StatusOr<QuantizeResult> refused = Quantize(mesh, options);
+  EXPECT_EQ(refused.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(refused.status().message()), HasSubstr("above the limit"));
+  options.scaling = mesh.levels().back().scaling;
+  const absl::StatusOr<QuantizeResult> solved = Quantize(mesh, options);
+  ASSERT_TRUE(solved.ok()) << solved.status();
+  ExpectValidResult(mesh, options, *solved, "level 100");
 }
 
 // Records events; optionally interrupts once a condition holds.

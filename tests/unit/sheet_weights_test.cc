@@ -42,5 +42,22 @@ TEST(SheetWeightsTest, MarginalWeightsAreTheObjectiveChangeFloored) {
   EXPECT_DOUBLE_EQ(w.deflate, 1.4 + 7);
 }
 
+// CLP aborts on objective coefficients beyond 1e25 (issue 7): bundle weights are capped, and the
+// cap keeps the tier order of everything below it.
+TEST(SheetWeightsTest, BundleWeightsStayWithinWhatTheLpAccepts) {
+  const double huge_mesh = 1e9;  // arcs
+  const std::vector<double> far = {1e12, 1e12, 1e12};
+  const BundleWeights away = BundleSheetWeights(far, -1e12, huge_mesh);
+  EXPECT_LE(away.deflate, kMaxSheetWeight);
+  EXPECT_LE(away.inflate, kMaxSheetWeight);
+  const BundleWeights marginal = BundleMarginalWeights(far, 1e30, 1e-3);
+  EXPECT_LE(marginal.inflate, kMaxSheetWeight);
+  EXPECT_LE(marginal.deflate, kMaxSheetWeight);
+  EXPECT_LT(kMaxSheetWeight, 1e25);
+  // Below the cap nothing changes: a tier-3 weight of a large accepted mesh is still exact.
+  const std::vector<double> one = {10.0};
+  EXPECT_DOUBLE_EQ(BundleSheetWeights(one, 12.0, 5e5).inflate, SheetWeight(-2.0, 5e5));
+}
+
 }  // namespace
 }  // namespace ispq
