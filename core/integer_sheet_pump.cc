@@ -716,7 +716,8 @@ absl::StatusOr<bool> IntegerSheetPump::FailsafeGroup(int32_t g) {
       group.MarkRowChanged(r);
     }
   }
-  for (const auto& [r, f] : swapped) {
+  for (const auto& swap : swapped) {
+    const int32_t f = swap.second;
     if (is_default_[f] || required_[f]) continue;
     const bool still_needed = std::any_of(swapped.begin(), swapped.end(), [&](const auto& pair) {
       return pair.second == f && !rows_.active(pair.first);

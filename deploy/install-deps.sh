@@ -9,6 +9,7 @@ PACKAGES=(
   coinor-libclp-dev libabsl-dev libspdlog-dev libgtest-dev libgmock-dev
   python3
   openssl  # the service's TLS integration tests make their certificates with it
+  clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tests/fuzz
 )
 
 missing=()

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite, from a fresh checkout: installs what is missing, builds (Release) and
 # runs every test with CTest, then runs the core unit tests once more under AddressSanitizer and
-# UndefinedBehaviorSanitizer. `.ci/run` calls exactly this.
+# UndefinedBehaviorSanitizer, and fuzzes the request parser and loader for a bounded time.
+# `.ci/run` calls exactly this.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -18,3 +19,6 @@ cmake --preset asan >/dev/null
 cmake --build --preset asan -j "$JOBS" --target ispq_unit_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   build/asan/tests/unit/ispq_unit_tests --gtest_brief=1
+
+echo "== fuzzing the T-mesh and request parsers, 30 s per target =="
+bash tests/fuzz/run_fuzzers.sh 30

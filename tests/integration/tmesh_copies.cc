@@ -15,7 +15,6 @@ struct IdOffsets {
   int32_t arc = 0;
   int32_t patch = 0;
   int32_t block = 0;
-  int32_t entity = 0;
 };
 
 void Shift(google::protobuf::RepeatedField<int32_t>& ids, int32_t offset) {
@@ -58,14 +57,6 @@ void ShiftCopy(const IdOffsets& o, v1::TMesh& copy) {
     for (v1::DirectedArcs& arcs : *block.mutable_arcs_by_dir()) Shift(*arcs.mutable_arcs(), o.arc);
     for (v1::NodeUvw& uvw : *block.mutable_node_uvw()) uvw.set_node(Shifted(uvw.node(), o.node));
   }
-  for (v1::CriticalEntity& entity : *copy.mutable_critical_entities()) {
-    entity.set_id(Shifted(entity.id(), o.entity));
-    entity.set_node_from(Shifted(entity.node_from(), o.node));
-    entity.set_node_to(Shifted(entity.node_to(), o.node));
-    Shift(*entity.mutable_halfarcs(), 2 * o.arc);
-    Shift(*entity.mutable_patches(), o.patch);
-    Shift(*entity.mutable_boundary_arcs(), o.arc);
-  }
 }
 
 }  // namespace
@@ -84,17 +75,13 @@ v1::TMesh DisjointCopies(const v1::TMesh& mesh, int copies) {
     const IdOffsets offsets = {.node = k * mesh.nodes_size(),
                                .arc = k * mesh.arcs_size(),
                                .patch = k * mesh.patches_size(),
-                               .block = k * mesh.blocks_size(),
-                               .entity = k * mesh.critical_entities_size()};
+                               .block = k * mesh.blocks_size()};
     v1::TMesh copy = mesh;
     ShiftCopy(offsets, copy);
     for (v1::Node& node : *copy.mutable_nodes()) *result.add_nodes() = std::move(node);
     for (v1::Arc& arc : *copy.mutable_arcs()) *result.add_arcs() = std::move(arc);
     for (v1::Patch& patch : *copy.mutable_patches()) *result.add_patches() = std::move(patch);
     for (v1::Block& block : *copy.mutable_blocks()) *result.add_blocks() = std::move(block);
-    for (v1::CriticalEntity& entity : *copy.mutable_critical_entities()) {
-      *result.add_critical_entities() = std::move(entity);
-    }
   }
   return result;
 }

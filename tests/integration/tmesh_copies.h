@@ -13,8 +13,9 @@
 
 namespace ispq::testing {
 
-// `copies` >= 1 disjoint copies of `mesh`, named "<name>x<copies>". Levels and exporter stats
-// are dropped (levels are recomputed from the lengths when requested).
+// `copies` >= 1 disjoint copies of `mesh`, named "<name>x<copies>". Levels, exporter stats and
+// the critical entity list are dropped (the loader derives the entities, in the format's order
+// of nodes, links and regions across all copies; levels are recomputed when requested).
 v1::TMesh DisjointCopies(const v1::TMesh& mesh, int copies);
 
 }  // namespace ispq::testing

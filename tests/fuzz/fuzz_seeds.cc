@@ -1,0 +1,35 @@
+// Writes the seed corpus of quantize_request_fuzzer: one binary ispq.v1.QuantizeRequest per
+// shared T-mesh of at most kMaxArcsToQuantize arcs and scaling (levels 0, 50 and 100, a factor
+// and a target hex count), into the directory given as the only argument.
+#include <fstream>
+#include <iostream>
+#include <string>
+
+#include "ispq/v1/service.pb.h"
+#include "tests/fuzz/bounded_quantize.h"
+#include "tests/support/test_data.h"
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::cerr << "usage: ispq_fuzz_seeds DIR\n";
+    return 2;
+  }
+  int written = 0;
+  for (const std::string& file : ispq::testing::SharedTMeshFiles()) {
+    const ispq::v1::TMesh mesh = ispq::testing::LoadProtoOrDie(file);
+    if (mesh.arcs_size() > ispq::fuzz::kMaxArcsToQuantize) continue;
+    for (int variant = 0; variant < 5; ++variant) {
+      ispq::v1::QuantizeRequest request;
+      *request.mutable_mesh() = mesh;
+      ispq::v1::Scaling& scaling = *request.mutable_options()->mutable_scaling();
+      if (variant < 3) scaling.set_level_percent(variant == 0 ? 0 : (variant == 1 ? 50 : 100));
+      if (variant == 3) scaling.set_factor(2.5);
+      if (variant == 4) scaling.set_target_hexes(1000);
+      std::ofstream out(std::string(argv[1]) + "/seed-" + std::to_string(written++),
+                        std::ios::binary);
+      out << request.SerializeAsString();
+    }
+  }
+  std::cout << written << " seeds\n";
+  return written > 0 ? 0 : 1;
+}
