@@ -7,7 +7,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/block_extents.h"
-#include "core/integer_sheet_pump.h"
+#include "core/isp/integer_sheet_pump.h"
 #include "core/quantization_limits.h"
 #include "core/quantization_validator.h"
 

@@ -1,5 +1,5 @@
 // The bundle-level quantization and its incrementally kept objective d(q) = sum (q_a - s l_a)^2.
-#include "core/bundle_quantization.h"
+#include "core/isp/bundle_quantization.h"
 
 #include <cmath>
 #include <vector>

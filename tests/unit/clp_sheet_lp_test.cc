@@ -1,13 +1,13 @@
 // The CLP back end of the sheet LPs: known optima, infeasibility, and warm-started solves after
 // in-place edits agreeing with solves of freshly built models.
-#include "core/clp_sheet_lp.h"
+#include "core/isp/clp_sheet_lp.h"
 
 #include <cstdint>
 #include <memory>
 #include <random>
 #include <vector>
 
-#include "core/lcd_scaling.h"
+#include "core/isp/lcd_scaling.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 

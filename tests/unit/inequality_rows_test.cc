@@ -1,6 +1,6 @@
 // The inequality-row store of the sheet LPs: deduplication, values kept up to date as bundles
 // move, and the count of violated active rows.
-#include "core/inequality_rows.h"
+#include "core/isp/inequality_rows.h"
 
 #include <vector>
 

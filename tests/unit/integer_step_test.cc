@@ -1,5 +1,5 @@
 // OPTIMALINTEGERSTEP: the best multiplicity of a sheet on a convex parabola.
-#include "core/integer_step.h"
+#include "core/isp/integer_step.h"
 
 #include "gtest/gtest.h"
 

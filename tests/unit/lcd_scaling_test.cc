@@ -1,5 +1,5 @@
 // Turning rational LP vertices into integer sheets (paper section 4.3.1).
-#include "core/lcd_scaling.h"
+#include "core/isp/lcd_scaling.h"
 
 #include <vector>
 

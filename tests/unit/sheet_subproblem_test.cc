@@ -1,17 +1,17 @@
 // The per-subproblem sheet LP: a sheet on a single cube, floors, separating (self-inflating)
 // solves, and the half-integral U-turn of the paper's Figs. 6 and 7.
-#include "core/sheet_subproblem.h"
+#include "core/isp/sheet_subproblem.h"
 
 #include <memory>
 #include <vector>
 
 #include "core/arc_bundles.h"
 #include "core/block_extents.h"
-#include "core/bundle_quantization.h"
-#include "core/clp_sheet_lp.h"
 #include "core/consistency_matrix.h"
-#include "core/inequality_rows.h"
-#include "core/lcd_scaling.h"
+#include "core/isp/bundle_quantization.h"
+#include "core/isp/clp_sheet_lp.h"
+#include "core/isp/inequality_rows.h"
+#include "core/isp/lcd_scaling.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/support/grid_tmesh_builder.h"

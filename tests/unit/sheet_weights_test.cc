@@ -1,5 +1,5 @@
 // The 3-tier unfavorability weights of eq. (4).
-#include "core/sheet_weights.h"
+#include "core/isp/sheet_weights.h"
 
 #include <vector>
 

@@ -8,8 +8,8 @@
 // warm-start from the previous basis, in the spirit of an incremental solver interface (model
 // edits are pushed to the live solver instead of rebuilding it). Columns are fixed at creation;
 // rows can only be appended. Implementations: core/clp_sheet_lp.h (COIN-OR CLP).
-#ifndef ISPQ_CORE_SHEET_LP_H_
-#define ISPQ_CORE_SHEET_LP_H_
+#ifndef ISPQ_CORE_ISP_SHEET_LP_H_
+#define ISPQ_CORE_ISP_SHEET_LP_H_
 
 #include <cstdint>
 #include <limits>
@@ -84,4 +84,4 @@ class SheetLp {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_SHEET_LP_H_
+#endif  // ISPQ_CORE_ISP_SHEET_LP_H_

@@ -1,8 +1,8 @@
 // An integer sheet: a consistency-preserving integer update of the bundle lengths (paper
 // section 4.2), stored sparsely over the bundles it changes. Positive entries inflate, negative
 // ones deflate; a sheet with both is a mixed-sign sheet (section 4.3.3).
-#ifndef ISPQ_CORE_INTEGER_SHEET_H_
-#define ISPQ_CORE_INTEGER_SHEET_H_
+#ifndef ISPQ_CORE_ISP_INTEGER_SHEET_H_
+#define ISPQ_CORE_ISP_INTEGER_SHEET_H_
 
 #include <cstdint>
 #include <vector>
@@ -35,4 +35,4 @@ inline SheetSign SignOfSheet(const IntegerSheet& sheet) {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_INTEGER_SHEET_H_
+#endif  // ISPQ_CORE_ISP_INTEGER_SHEET_H_

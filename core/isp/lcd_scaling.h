@@ -2,8 +2,8 @@
 // vertex with small rational entries, usually integers, occasionally halves (the T-junction
 // U-turn of Fig. 6) and rarely quarters or eighths (nested U-turns, Fig. 7). Multiplying by the
 // least common denominator gives an integer sheet with the same support and proportions.
-#ifndef ISPQ_CORE_LCD_SCALING_H_
-#define ISPQ_CORE_LCD_SCALING_H_
+#ifndef ISPQ_CORE_ISP_LCD_SCALING_H_
+#define ISPQ_CORE_ISP_LCD_SCALING_H_
 
 #include <cstdint>
 #include <optional>
@@ -25,4 +25,4 @@ std::vector<int64_t> ScaleToIntegers(std::span<const double> values, int64_t lcd
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_LCD_SCALING_H_
+#endif  // ISPQ_CORE_ISP_LCD_SCALING_H_

@@ -1,4 +1,4 @@
-#include "core/integer_step.h"
+#include "core/isp/integer_step.h"
 
 #include <algorithm>
 #include <cmath>

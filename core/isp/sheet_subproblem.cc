@@ -1,10 +1,10 @@
-#include "core/sheet_subproblem.h"
+#include "core/isp/sheet_subproblem.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "core/sheet_weights.h"
+#include "core/isp/sheet_weights.h"
 
 namespace ispq {
 namespace {

@@ -4,8 +4,8 @@
 //
 // Per bundle it stores the arc count m, the sum of scaled targets S and their squares, so the
 // bundle's part of the objective at value x is m x^2 - 2 S x + sum t^2 and any move costs O(1).
-#ifndef ISPQ_CORE_BUNDLE_QUANTIZATION_H_
-#define ISPQ_CORE_BUNDLE_QUANTIZATION_H_
+#ifndef ISPQ_CORE_ISP_BUNDLE_QUANTIZATION_H_
+#define ISPQ_CORE_ISP_BUNDLE_QUANTIZATION_H_
 
 #include <cstdint>
 #include <span>
@@ -13,7 +13,7 @@
 
 #include "core/arc_bundles.h"
 #include "core/flat_lists.h"
-#include "core/integer_sheet.h"
+#include "core/isp/integer_sheet.h"
 #include "core/tmesh.h"
 
 namespace ispq {
@@ -73,4 +73,4 @@ class BundleQuantization {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_BUNDLE_QUANTIZATION_H_
+#endif  // ISPQ_CORE_ISP_BUNDLE_QUANTIZATION_H_

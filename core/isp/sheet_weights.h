@@ -9,8 +9,8 @@
 // 1e25, and tier 3 grows with |A|^2 times the distance to the target. The cap only merges
 // weights that are already larger than any sum of tier-1 and tier-2 weights of a mesh the
 // service accepts, so the order of the tiers is kept.
-#ifndef ISPQ_CORE_SHEET_WEIGHTS_H_
-#define ISPQ_CORE_SHEET_WEIGHTS_H_
+#ifndef ISPQ_CORE_ISP_SHEET_WEIGHTS_H_
+#define ISPQ_CORE_ISP_SHEET_WEIGHTS_H_
 
 #include <algorithm>
 #include <span>
@@ -60,4 +60,4 @@ inline BundleWeights BundleMarginalWeights(std::span<const double> targets, doub
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_SHEET_WEIGHTS_H_
+#endif  // ISPQ_CORE_ISP_SHEET_WEIGHTS_H_

@@ -1,4 +1,4 @@
-#include "core/inequality_rows.h"
+#include "core/isp/inequality_rows.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "core/clp_sheet_lp.h"
+#include "core/isp/clp_sheet_lp.h"
 
 #include <cmath>
 #include <vector>

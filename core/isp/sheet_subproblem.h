@@ -9,8 +9,8 @@
 // whose value or activity changed, the bounds of the root columns (eqs. 7e/7f) and, when the
 // mode changes, the Delta+/Delta- upper bounds (uniform-sign and non-deflating modes, eq. 7g).
 // Everything that stays is left to the solver's warm start.
-#ifndef ISPQ_CORE_SHEET_SUBPROBLEM_H_
-#define ISPQ_CORE_SHEET_SUBPROBLEM_H_
+#ifndef ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
+#define ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 
 #include <cstdint>
 #include <functional>
@@ -21,12 +21,12 @@
 
 #include "absl/status/statusor.h"
 #include "core/arc_bundles.h"
-#include "core/bundle_quantization.h"
 #include "core/consistency_matrix.h"
 #include "core/flat_lists.h"
-#include "core/inequality_rows.h"
-#include "core/integer_sheet.h"
-#include "core/sheet_lp.h"
+#include "core/isp/bundle_quantization.h"
+#include "core/isp/inequality_rows.h"
+#include "core/isp/integer_sheet.h"
+#include "core/isp/sheet_lp.h"
 
 namespace ispq {
 
@@ -129,4 +129,4 @@ class SheetSubproblem {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_SHEET_SUBPROBLEM_H_
+#endif  // ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_

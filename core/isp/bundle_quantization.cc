@@ -1,4 +1,4 @@
-#include "core/bundle_quantization.h"
+#include "core/isp/bundle_quantization.h"
 
 namespace ispq {
 

@@ -4,8 +4,8 @@
 // parabola, so the best integer in a feasible interval is the rounded vertex clamped to the
 // interval. Taking more than one copy of a sheet at once is only a shortcut: the same state
 // would be reached by popping the same root repeatedly, at one LP solve per copy.
-#ifndef ISPQ_CORE_INTEGER_STEP_H_
-#define ISPQ_CORE_INTEGER_STEP_H_
+#ifndef ISPQ_CORE_ISP_INTEGER_STEP_H_
+#define ISPQ_CORE_ISP_INTEGER_STEP_H_
 
 #include <cstdint>
 
@@ -16,4 +16,4 @@ int64_t OptimalIntegerStep(double a, double b, int64_t t_min, int64_t t_max);
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_INTEGER_STEP_H_
+#endif  // ISPQ_CORE_ISP_INTEGER_STEP_H_

@@ -7,8 +7,8 @@
 // LP right-hand sides rhs - B q_pre, the violation count reported to observers and the bounds of
 // a sheet's multiplicity are all read in O(1) per row. Rows are deduplicated on insertion: the
 // search reports the same violation from several starts.
-#ifndef ISPQ_CORE_INEQUALITY_ROWS_H_
-#define ISPQ_CORE_INEQUALITY_ROWS_H_
+#ifndef ISPQ_CORE_ISP_INEQUALITY_ROWS_H_
+#define ISPQ_CORE_ISP_INEQUALITY_ROWS_H_
 
 #include <cstdint>
 #include <span>
@@ -81,4 +81,4 @@ class InequalityRows {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_INEQUALITY_ROWS_H_
+#endif  // ISPQ_CORE_ISP_INEQUALITY_ROWS_H_

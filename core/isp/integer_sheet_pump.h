@@ -10,14 +10,14 @@
 // defaults are the combination that gave the best objective on the shared T-meshes (496 runs;
 // the effect of each knob is noted where it is declared, as the change of the mean objective
 // ratio to the reference ISP results when only that knob is switched back).
-#ifndef ISPQ_CORE_INTEGER_SHEET_PUMP_H_
-#define ISPQ_CORE_INTEGER_SHEET_PUMP_H_
+#ifndef ISPQ_CORE_ISP_INTEGER_SHEET_PUMP_H_
+#define ISPQ_CORE_ISP_INTEGER_SHEET_PUMP_H_
 
 #include <cstdint>
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "core/clp_sheet_lp.h"
+#include "core/isp/clp_sheet_lp.h"
 #include "core/quantization_progress.h"
 #include "core/quantizer.h"
 #include "core/solve_interrupter.h"
@@ -88,4 +88,4 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_INTEGER_SHEET_PUMP_H_
+#endif  // ISPQ_CORE_ISP_INTEGER_SHEET_PUMP_H_

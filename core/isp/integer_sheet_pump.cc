@@ -1,4 +1,4 @@
-#include "core/integer_sheet_pump.h"
+#include "core/isp/integer_sheet_pump.h"
 
 #include <algorithm>
 #include <chrono>
@@ -14,16 +14,16 @@
 #include "absl/status/status.h"
 #include "core/arc_bundles.h"
 #include "core/block_extents.h"
-#include "core/bundle_quantization.h"
 #include "core/consistency_matrix.h"
 #include "core/disjoint_sets.h"
 #include "core/flat_lists.h"
-#include "core/inequality_rows.h"
-#include "core/integer_sheet.h"
-#include "core/integer_step.h"
-#include "core/lcd_scaling.h"
+#include "core/isp/bundle_quantization.h"
+#include "core/isp/inequality_rows.h"
+#include "core/isp/integer_sheet.h"
+#include "core/isp/integer_step.h"
+#include "core/isp/lcd_scaling.h"
+#include "core/isp/sheet_subproblem.h"
 #include "core/separation_check.h"
-#include "core/sheet_subproblem.h"
 #include "core/simple_constraints.h"
 #include "core/subproblems.h"
 

@@ -4,13 +4,13 @@
 // Solve() restarts the simplex from the previous basis (and, when the row count is unchanged,
 // from the previous factorization), which is what makes hundreds of solves of the same small
 // model cheap. CLP's own logging is silenced unless a log level is asked for.
-#ifndef ISPQ_CORE_CLP_SHEET_LP_H_
-#define ISPQ_CORE_CLP_SHEET_LP_H_
+#ifndef ISPQ_CORE_ISP_CLP_SHEET_LP_H_
+#define ISPQ_CORE_ISP_CLP_SHEET_LP_H_
 
 #include <cstdint>
 #include <memory>
 
-#include "core/sheet_lp.h"
+#include "core/isp/sheet_lp.h"
 
 namespace ispq {
 
@@ -31,4 +31,4 @@ std::unique_ptr<SheetLp> NewClpSheetLp(int num_columns, const ClpSheetLpOptions&
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_CLP_SHEET_LP_H_
+#endif  // ISPQ_CORE_ISP_CLP_SHEET_LP_H_

@@ -1,4 +1,4 @@
-#include "core/lcd_scaling.h"
+#include "core/isp/lcd_scaling.h"
 
 #include <cmath>
 #include <numeric>
