@@ -7,23 +7,12 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/block_extents.h"
+#include "core/isp/clp_sheet_lp.h"
 #include "core/isp/integer_sheet_pump.h"
 #include "core/quantization_limits.h"
 #include "core/quantization_validator.h"
 
 namespace ispq {
-
-const char* TerminationName(Termination termination) {
-  switch (termination) {
-    case Termination::kConverged:
-      return "converged";
-    case Termination::kTimeLimit:
-      return "time_limit";
-    case Termination::kInterrupted:
-      return "interrupted";
-  }
-  return "unknown";
-}
 
 absl::Status ValidateQuantizeOptions(const TMesh& mesh, const QuantizeOptions& options) {
   if (!std::isfinite(options.scaling) || options.scaling <= 0) {
@@ -44,7 +33,7 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
   if (absl::Status valid = ValidateQuantizeOptions(mesh, options); !valid.ok()) return valid;
 
   absl::StatusOr<IspOutcome> outcome =
-      RunIntegerSheetPump(mesh, options, IspTuning{}, observer, interrupter);
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, observer, interrupter);
   if (!outcome.ok()) return outcome.status();
 
   // Every result is checked by the validator, independently of what the algorithm believes.

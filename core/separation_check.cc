@@ -11,8 +11,7 @@ SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule) {
   }
 }
 
-std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(
-    std::span<const int64_t> q) {
+std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(std::span<const int64_t> q) {
   for (SeparationSearch& search : searches_) {
     std::vector<SeparationViolation> violations = search.FindViolations(q);
     if (!violations.empty()) return violations;

@@ -103,4 +103,8 @@ std::unique_ptr<SheetLp> NewClpSheetLp(int num_columns, const ClpSheetLpOptions&
   return std::make_unique<ClpSheetLp>(num_columns, options);
 }
 
+SheetLpFactory ClpSheetLpFactory(const ClpSheetLpOptions& options) {
+  return [options](int num_columns) { return NewClpSheetLp(num_columns, options); };
+}
+
 }  // namespace ispq

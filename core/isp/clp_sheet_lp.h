@@ -29,6 +29,9 @@ struct ClpSheetLpOptions {
 // A SheetLp with num_columns columns in [0, +inf), objective 0, and no rows.
 std::unique_ptr<SheetLp> NewClpSheetLp(int num_columns, const ClpSheetLpOptions& options = {});
 
+// The factory the engine is given: NewClpSheetLp with these options.
+SheetLpFactory ClpSheetLpFactory(const ClpSheetLpOptions& options = {});
+
 }  // namespace ispq
 
 #endif  // ISPQ_CORE_ISP_CLP_SHEET_LP_H_

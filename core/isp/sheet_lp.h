@@ -12,7 +12,9 @@
 #define ISPQ_CORE_ISP_SHEET_LP_H_
 
 #include <cstdint>
+#include <functional>
 #include <limits>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -81,6 +83,10 @@ class SheetLp {
   // Column values of the last solve that returned kOptimal.
   virtual std::span<const double> column_values() const = 0;
 };
+
+// Makes the LP of one subproblem with the given number of columns (the engine's only way to get a
+// solver, so that back ends plug in without the engine naming them).
+using SheetLpFactory = std::function<std::unique_ptr<SheetLp>(int num_columns)>;
 
 }  // namespace ispq
 

@@ -93,11 +93,18 @@ std::vector<Run> RunAll(const std::vector<std::string>& files, const QuantizeOpt
   return runs;
 }
 
+// A fingerprint of q (FNV-1a over the values), so that two TSVs show whether every q is equal.
+uint64_t QHash(const std::vector<int64_t>& q) {
+  uint64_t h = 1469598103934665603ull;
+  for (int64_t x : q) h = (h ^ static_cast<uint64_t>(x)) * 1099511628211ull;
+  return h;
+}
+
 void WriteTsv(const std::string& path, const std::vector<Run>& runs,
               const ReferenceResults& reference) {
   std::ofstream out(path);
   out << "model\tlevel\tscaling\tarcs\ttime_s\tobjective\thexes\tlp_solves\tsep_rounds\tsep_rows"
-         "\tvalid\tref_time_s\tref_objective\tiqp_objective\n";
+         "\tvalid\tref_time_s\tref_objective\tiqp_objective\tq_hash\n";
   for (const Run& r : runs) {
     const auto ref = reference.Isp(r.model, r.percent);
     const auto iqp = reference.Iqp(r.model, r.percent);
@@ -107,7 +114,7 @@ void WriteTsv(const std::string& path, const std::vector<Run>& runs,
         << "\t" << (r.result.valid && r.validator_ok ? "yes" : "no") << "\t"
         << (ref ? std::to_string(ref->seconds) : "") << "\t"
         << (ref ? std::to_string(ref->objective) : "") << "\t"
-        << (iqp ? std::to_string(iqp->objective) : "") << "\n";
+        << (iqp ? std::to_string(iqp->objective) : "") << "\t" << QHash(r.result.q) << "\n";
   }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/isp/clp_sheet_lp.h"
 #include "core/quantization_validator.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"
@@ -20,6 +21,7 @@ using ::ispq::testing::LoadTMeshOrDie;
 struct Variant {
   std::string name;
   std::function<void(IspTuning&)> apply;
+  ClpSheetLpOptions lp = {};
 };
 
 std::vector<Variant> Variants() {
@@ -27,15 +29,10 @@ std::vector<Variant> Variants() {
       {"defaults", [](IspTuning&) {}},
       {"lcd_scaling_only", [](IspTuning& t) { t.integer_dive = false; }},
       {"no_repair", [](IspTuning& t) { t.repair_attempts = 0; }},
-      {"repair_in_greedy", [](IspTuning& t) { t.repair_in_greedy = true; }},
-      {"lazy_extent_rows", [](IspTuning& t) { t.extent_rows_from_start = false; }},
-      {"repeated_passes", [](IspTuning& t) { t.repeat_greedy_passes = true; }},
-      {"damped_steps", [](IspTuning& t) { t.step_damping = 1.0 / 3; }},
-      {"tiered_separation_weights", [](IspTuning& t) { t.marginal_separation_weights = false; }},
       {"failsafe_only", [](IspTuning& t) { t.failsafe_separation_only = true; }},
       {"no_thorough_pass", [](IspTuning& t) { t.thorough_final_pass = false; }},
-      {"primal_simplex", [](IspTuning& t) { t.lp.algorithm = ClpAlgorithm::kPrimal; }},
-      {"cold_factorization", [](IspTuning& t) { t.lp.keep_factorization = false; }},
+      {"primal_simplex", [](IspTuning&) {}, {.algorithm = ClpAlgorithm::kPrimal}},
+      {"cold_factorization", [](IspTuning&) {}, {.keep_factorization = false}},
   };
 }
 
@@ -50,8 +47,8 @@ TEST_P(IntegerSheetPumpVariantTest, EndsValidOnEveryLevel) {
     for (const Level& level : mesh.levels()) {
       QuantizeOptions options;
       options.scaling = level.scaling;
-      const absl::StatusOr<IspOutcome> outcome =
-          RunIntegerSheetPump(mesh, options, tuning, nullptr, nullptr);
+      const absl::StatusOr<IspOutcome> outcome = RunIntegerSheetPump(
+          mesh, options, ClpSheetLpFactory(GetParam().lp), tuning, nullptr, nullptr);
       ASSERT_TRUE(outcome.ok()) << file << ": " << outcome.status();
       EXPECT_EQ(outcome->termination, Termination::kConverged);
       EXPECT_TRUE(outcome->separating) << file << " " << level.percent;
@@ -70,7 +67,7 @@ QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tunin
   QuantizeOptions options;
   options.scaling = mesh.levels()[level_index].scaling;
   const absl::StatusOr<IspOutcome> outcome =
-      RunIntegerSheetPump(mesh, options, tuning, nullptr, nullptr);
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), tuning, nullptr, nullptr);
   EXPECT_TRUE(outcome.ok()) << outcome.status();
   return outcome.ok() ? outcome->stats : QuantizeStats{};
 }

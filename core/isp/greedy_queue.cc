@@ -1,0 +1,81 @@
+#include "core/isp/greedy_queue.h"
+
+#include <cmath>
+
+namespace ispq {
+
+GreedyQueue::GreedyQueue(const BundleQuantization& quantization, const InequalityRows& rows)
+    : quantization_(quantization),
+      rows_(rows),
+      stamp_(quantization.num_bundles(), 0),
+      users_(quantization.num_bundles()),
+      mark_(quantization.num_bundles(), 0) {}
+
+void GreedyQueue::Reset() {
+  heap_ = {};
+  for (auto& list : users_) list.clear();
+  for (BundleId b = 0; b < quantization_.num_bundles(); ++b) Push(b);
+}
+
+std::optional<BundleId> GreedyQueue::Pop() {
+  while (!heap_.empty()) {
+    const Entry top = heap_.top();
+    heap_.pop();
+    if (top.stamp == stamp_[top.bundle]) return top.bundle;
+  }
+  return std::nullopt;
+}
+
+void GreedyQueue::Push(BundleId b) {
+  ++stamp_[b];
+  heap_.push({std::abs(quantization_.mean_deviation(b)), b, stamp_[b]});
+}
+
+bool GreedyQueue::Mark(BundleId b) {
+  if (mark_[b] == epoch_) return false;
+  mark_[b] = epoch_;
+  return true;
+}
+
+void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> support) {
+  const int32_t stamp = stamp_[root];
+  if (!support.empty()) {
+    for (BundleId c : support) users_[c].push_back({root, stamp});
+    return;
+  }
+  // No sheet (infeasible LP): what could change that is the slack of the rows around the root.
+  users_[root].push_back({root, stamp});
+  for (const InequalityRows::Incidence& inc : rows_.rows_of_bundle(root)) {
+    if (!rows_.active(inc.row)) continue;
+    for (const LinearTerm& t : rows_.terms(inc.row)) users_[t.var].push_back({root, stamp});
+  }
+}
+
+void GreedyQueue::RequeueAfter(const IntegerSheet& sheet) {
+  // Bundles whose value changed, plus those sharing an active row with them (whose rows' slack
+  // changed).
+  ++epoch_;
+  affected_.clear();
+  for (BundleId b : sheet.bundles) {
+    if (Mark(b)) affected_.push_back(b);
+    for (const InequalityRows::Incidence& inc : rows_.rows_of_bundle(b)) {
+      if (!rows_.active(inc.row)) continue;
+      for (const LinearTerm& t : rows_.terms(inc.row)) {
+        if (Mark(t.var)) affected_.push_back(t.var);
+      }
+    }
+  }
+  // A new epoch marks the roots queued again, each once.
+  ++epoch_;
+  for (BundleId c : affected_) {
+    for (const auto& [root, stamp] : users_[c]) {
+      if (stamp_[root] == stamp && Mark(root)) Push(root);
+    }
+    users_[c].clear();
+  }
+  for (BundleId b : sheet.bundles) {
+    if (Mark(b)) Push(b);
+  }
+}
+
+}  // namespace ispq

@@ -1,0 +1,67 @@
+// Time within one ISP run: the elapsed time for progress reports, the stop condition (the time
+// limit or the caller's SolveInterrupter, checked between LP solves) and scoped timers that add
+// a phase's duration to its statistic.
+#ifndef ISPQ_CORE_ISP_RUN_CLOCK_H_
+#define ISPQ_CORE_ISP_RUN_CLOCK_H_
+
+#include <chrono>
+
+#include "core/quantize_result.h"
+#include "core/solve_interrupter.h"
+
+namespace ispq {
+
+class RunClock {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // `interrupter` may be null.
+  RunClock(const SolveInterrupter* interrupter, double time_limit_seconds)
+      : interrupter_(interrupter), time_limit_seconds_(time_limit_seconds), start_(Clock::now()) {}
+
+  double ElapsedSeconds() const { return SecondsSince(start_); }
+
+  // Whether the run must stop; once true it stays true, and termination() says why.
+  bool ShouldStop() {
+    if (stopped_) return true;
+    if (interrupter_ != nullptr && interrupter_->IsInterrupted()) {
+      stopped_ = true;
+      termination_ = Termination::kInterrupted;
+    } else if (ElapsedSeconds() > time_limit_seconds_) {
+      stopped_ = true;
+      termination_ = Termination::kTimeLimit;
+    }
+    return stopped_;
+  }
+  // The last answer of ShouldStop, without checking again.
+  bool stopped() const { return stopped_; }
+  Termination termination() const { return stopped_ ? termination_ : Termination::kConverged; }
+
+  static double SecondsSince(Clock::time_point start) {
+    return std::chrono::duration<double>(Clock::now() - start).count();
+  }
+
+ private:
+  const SolveInterrupter* interrupter_;
+  const double time_limit_seconds_;
+  const Clock::time_point start_;
+  bool stopped_ = false;
+  Termination termination_ = Termination::kConverged;
+};
+
+// Adds the lifetime of the scope to a statistic.
+class ScopedSeconds {
+ public:
+  explicit ScopedSeconds(double* sink) : sink_(sink), start_(RunClock::Clock::now()) {}
+  ~ScopedSeconds() { *sink_ += RunClock::SecondsSince(start_); }
+  ScopedSeconds(const ScopedSeconds&) = delete;
+  ScopedSeconds& operator=(const ScopedSeconds&) = delete;
+
+ private:
+  double* sink_;
+  RunClock::Clock::time_point start_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_ISP_RUN_CLOCK_H_

@@ -1,0 +1,17 @@
+#include "core/quantize_result.h"
+
+namespace ispq {
+
+const char* TerminationName(Termination termination) {
+  switch (termination) {
+    case Termination::kConverged:
+      return "converged";
+    case Termination::kTimeLimit:
+      return "time_limit";
+    case Termination::kInterrupted:
+      return "interrupted";
+  }
+  return "unknown";
+}
+
+}  // namespace ispq

@@ -1,0 +1,53 @@
+// What a quantization gives back: the integer arc lengths with their verdict, how the run ended
+// and what it cost. The ISP engine (core/isp/) fills the statistics; the facade
+// (core/quantizer.h) adds the validator's verdict, the objective and the hex count.
+#ifndef ISPQ_CORE_QUANTIZE_RESULT_H_
+#define ISPQ_CORE_QUANTIZE_RESULT_H_
+
+#include <cstdint>
+#include <vector>
+
+namespace ispq {
+
+enum class Termination : uint8_t {
+  kConverged,    // no improving sheet left and the separation search finds nothing
+  kTimeLimit,    // stopped at the time limit; q is the best valid result found, if any
+  kInterrupted,  // stopped by the SolveInterrupter; likewise
+};
+
+const char* TerminationName(Termination termination);
+
+struct QuantizeStats {
+  int64_t lp_solves = 0;
+  int64_t sheets_inflating = 0;
+  int64_t sheets_deflating = 0;
+  int64_t sheets_mixed = 0;
+  int64_t separating_updates = 0;
+  int64_t failsafe_updates = 0;
+  // Least common denominators of rational LP solutions (paper Fig. 8).
+  int64_t lcd_one = 0;
+  int64_t lcd_two = 0;
+  int64_t lcd_more = 0;
+  int64_t separation_rounds = 0;
+  int64_t separation_rows = 0;  // structural rows found in all rounds
+  int32_t subproblems = 0;      // after merging through separation rows
+  double greedy_seconds = 0;
+  double separation_search_seconds = 0;
+  double separating_update_seconds = 0;
+  double solve_seconds = 0;  // the whole quantization, in-process, without reading the mesh
+};
+
+struct QuantizeResult {
+  Termination termination = Termination::kConverged;
+  // Whether q is valid (validator: consistent, non-negative extents, separating). False only
+  // when a stop came before any valid q was reached; q is then the last iterate.
+  bool valid = false;
+  std::vector<int64_t> q;  // per arc, in the mesh's arc order
+  double objective = 0;    // d(q, s*l)
+  int64_t hexes = 0;       // only meaningful if valid
+  QuantizeStats stats;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_QUANTIZE_RESULT_H_
