@@ -22,9 +22,6 @@ absl::StatusOr<v1::TMesh> ParseTMeshBinary(std::string_view bytes);
 // Binary if the name ends in ".pb" or ".binpb", JSON otherwise.
 absl::StatusOr<v1::TMesh> ReadTMeshFile(const std::string& path);
 
-// Reads a whole file, refusing files larger than max_bytes.
-absl::StatusOr<std::string> ReadFileToString(const std::string& path, size_t max_bytes);
-
 }  // namespace ispq
 
 #endif  // ISPQ_CORE_TMESH_FILE_H_

@@ -13,6 +13,7 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "core/mesh_stats.h"
+#include "core/read_file.h"
 #include "core/tmesh_file.h"
 #include "core/tmesh_from_proto.h"
 #include "tests/support/test_data.h"

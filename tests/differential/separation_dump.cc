@@ -13,6 +13,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "core/quantization_validator.h"
+#include "core/read_file.h"
 #include "core/tmesh_file.h"
 #include "core/tmesh_from_proto.h"
 #include "google/protobuf/struct.pb.h"

@@ -9,6 +9,7 @@
 #include <set>
 #include <string>
 
+#include "core/read_file.h"
 #include "core/tmesh_file.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/util/json_util.h"
