@@ -8,6 +8,7 @@
 #include "core/block_extents.h"
 #include "core/quantization_proto.h"
 #include "core/quantization_validator.h"
+#include "core/scaling.h"
 #include "core/tmesh_file.h"
 #include "core/tmesh_from_proto.h"
 #include "google/protobuf/util/json_util.h"
@@ -35,7 +36,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     std::cerr << "ispq: " << options.result_path << ": " << q.status().message() << "\n";
     return kExitInvalidInput;
   }
-  absl::StatusOr<double> scaling = ResolveScaling(options.scaling, *mesh);
+  absl::StatusOr<double> scaling = ResolveScaling(ScalingChoiceFromProto(options.scaling), *mesh);
   if (!scaling.ok()) {
     std::cerr << "ispq: " << scaling.status().message() << "\n";
     return kExitUsage;
