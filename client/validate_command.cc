@@ -6,11 +6,11 @@
 #include "client/exit_codes.h"
 #include "client/result_output.h"
 #include "core/block_extents.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/scaling.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {

@@ -2,8 +2,8 @@
 // mapping (the format of shared/tmesh-format.md) or binary protobuf (`*.tmesh.pb`).
 //
 // This only parses; TMeshFromProto validates. Errors name the file and what failed to parse.
-#ifndef ISPQ_CORE_TMESH_FILE_H_
-#define ISPQ_CORE_TMESH_FILE_H_
+#ifndef ISPQ_CORE_PROTO_TMESH_FILE_H_
+#define ISPQ_CORE_PROTO_TMESH_FILE_H_
 
 #include <string>
 #include <string_view>
@@ -24,4 +24,4 @@ absl::StatusOr<v1::TMesh> ReadTMeshFile(const std::string& path);
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_TMESH_FILE_H_
+#endif  // ISPQ_CORE_PROTO_TMESH_FILE_H_

@@ -1,4 +1,4 @@
-#include "core/tmesh_from_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 
 #include <algorithm>
 #include <cmath>

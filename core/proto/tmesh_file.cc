@@ -1,4 +1,4 @@
-#include "core/tmesh_file.h"
+#include "core/proto/tmesh_file.h"
 
 #include "absl/status/status.h"
 #include "absl/strings/match.h"

@@ -5,8 +5,8 @@
 // without further checks. A rejected mesh yields INVALID_ARGUMENT naming the offending element
 // and the rule it breaks (e.g. "patch 12: ..."). Hostile input (ids of 2^31, NaN lengths,
 // truncated lists) is rejected before anything is allocated from it.
-#ifndef ISPQ_CORE_TMESH_FROM_PROTO_H_
-#define ISPQ_CORE_TMESH_FROM_PROTO_H_
+#ifndef ISPQ_CORE_PROTO_TMESH_FROM_PROTO_H_
+#define ISPQ_CORE_PROTO_TMESH_FROM_PROTO_H_
 
 #include "absl/status/statusor.h"
 #include "core/tmesh.h"
@@ -25,4 +25,4 @@ absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_TMESH_FROM_PROTO_H_
+#endif  // ISPQ_CORE_PROTO_TMESH_FROM_PROTO_H_

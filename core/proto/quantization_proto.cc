@@ -1,4 +1,4 @@
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"

@@ -2,8 +2,8 @@
 // the core types: options in (with the scaling resolved against the mesh), results and progress
 // out. The CLI's local path, its result files and the service all go through these, so a result
 // looks the same wherever it was computed.
-#ifndef ISPQ_CORE_QUANTIZATION_PROTO_H_
-#define ISPQ_CORE_QUANTIZATION_PROTO_H_
+#ifndef ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_
+#define ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_
 
 #include <cstdint>
 #include <vector>
@@ -37,4 +37,4 @@ absl::StatusOr<std::vector<int64_t>> QuantizationFromProto(const v1::Quantizatio
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_QUANTIZATION_PROTO_H_
+#endif  // ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_
