@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdint>
 #include <optional>
-#include <string>
 
 #include "core/direction.h"
 #include "core/invalid_argument.h"
@@ -21,9 +20,9 @@ absl::Status DecodeCorners(BlockId b, const v1::Block& block, const IdRanges& id
   std::array<bool, kNumCorners> seen{};
   for (const v1::Corner& c : block.corners()) {
     const std::optional<int> code = CornerFromUpstreamBits(c.corner());
-    const std::string& key = v1::UVWDir_Name(c.corner());
-    if (!code) return InvalidArgument("block ", b, ": corner key ", key, " is not a corner");
-    if (seen[*code]) return InvalidArgument("block ", b, ": corner ", key, " appears twice");
+    const auto key = [&c] { return v1::UVWDir_Name(c.corner()); };  // for messages only
+    if (!code) return InvalidArgument("block ", b, ": corner key ", key(), " is not a corner");
+    if (seen[*code]) return InvalidArgument("block ", b, ": corner ", key(), " appears twice");
     if (!ids.Node(c.node())) {
       return InvalidArgument("block ", b, ": corner node ", c.node(), " does not exist");
     }
@@ -42,17 +41,17 @@ absl::Status DecodeEdges(BlockId b, const v1::Block& block, const IdRanges& ids,
   int listed = 0;
   for (const v1::Edge& e : block.edges()) {
     const std::optional<int> code = EdgeFromUpstreamBits(e.edge());
-    const std::string& key = v1::UVWDir_Name(e.edge());
-    if (!code) return InvalidArgument("block ", b, ": edge key ", key, " is not an edge");
-    if (seen[*code]) return InvalidArgument("block ", b, ": edge ", key, " appears twice");
-    if (e.arcs_size() == 0) return InvalidArgument("block ", b, ": edge ", key, " has no arcs");
+    const auto key = [&e] { return v1::UVWDir_Name(e.edge()); };  // for messages only
+    if (!code) return InvalidArgument("block ", b, ": edge key ", key(), " is not an edge");
+    if (seen[*code]) return InvalidArgument("block ", b, ": edge ", key(), " appears twice");
+    if (e.arcs_size() == 0) return InvalidArgument("block ", b, ": edge ", key(), " has no arcs");
     if (e.halfarcs_size() != e.arcs_size()) {
-      return InvalidArgument("block ", b, ": edge ", key, " lists ", e.arcs_size(), " arcs but ",
+      return InvalidArgument("block ", b, ": edge ", key(), " lists ", e.arcs_size(), " arcs but ",
                              e.halfarcs_size(), " halfarcs");
     }
     for (int i = 0; i < e.arcs_size(); ++i) {
       if (!ids.Arc(e.arcs(i)) || !ids.Halfarc(e.halfarcs(i)) || ArcOf(e.halfarcs(i)) != e.arcs(i)) {
-        return InvalidArgument("block ", b, ": edge ", key, " arc ", e.arcs(i), " / halfarc ",
+        return InvalidArgument("block ", b, ": edge ", key(), " arc ", e.arcs(i), " / halfarc ",
                                e.halfarcs(i), " is invalid");
       }
     }
