@@ -5,7 +5,7 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "server/mesh_admission.h"
 #include "server/resource_names.h"
 

@@ -5,8 +5,8 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/mesh_stats.h"
-#include "core/mesh_stats_proto.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/mesh_stats_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 
 namespace ispq::server {
 

@@ -1,6 +1,6 @@
 // The door from a client's ispq.v1.TMesh into the server: the server's size limit first (before
-// anything is built from the message), then the core validator (core/tmesh_from_proto.h), then
-// the mesh statistics every job reports in its accepted event.
+// anything is built from the message), then the core validator (core/proto/tmesh_from_proto.h),
+// then the mesh statistics every job reports in its accepted event.
 //
 // A rejected mesh is INVALID_ARGUMENT with the validator's message, which names the offending
 // element, so that a client can fix its exporter.

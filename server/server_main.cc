@@ -23,7 +23,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
-#include "core/tmesh_file.h"
+#include "core/read_file.h"
 #include "server/quantizer_server.h"
 #include "server/server_config.h"
 #include "spdlog/sinks/stdout_sinks.h"

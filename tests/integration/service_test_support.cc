@@ -9,10 +9,10 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "client/server_connection.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
-#include "core/tmesh_from_proto.h"
 #include "tests/integration/tmesh_copies.h"
 #include "tests/support/test_data.h"
 

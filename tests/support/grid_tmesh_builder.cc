@@ -628,7 +628,7 @@ class GridTMeshBuilder {
   }
 
   // Singular and feature types and the critical flag, by the rules of shared/separation.md
-  // section 2.1 (core/tmesh_from_proto.cc recomputes them the same way).
+  // section 2.1 (core/tmesh_criticality_checks.cc recomputes them the same way).
   absl::Status WriteNodeTypes() {
     std::vector<bool> arc_on_feature_patch(proto_.arcs_size(), false);
     std::vector<bool> node_on_feature_patch(proto_.nodes_size(), false);
