@@ -115,6 +115,13 @@ v1::TMesh MeshTakingSeconds(double seconds) {
   return DisjointCopies(calibration.base, copies);
 }
 
+v1::TMesh FemurCopies(int copies) { return DisjointCopies(BaseCalibration().base, copies); }
+
+const v1::TMesh& LargeMesh() {
+  static const v1::TMesh* mesh = new v1::TMesh(FemurCopies(kMaxCopies));
+  return *mesh;
+}
+
 const v1::TMesh& LongRunningMesh() {
   static const v1::TMesh* mesh = new v1::TMesh(MeshTakingSeconds(kLongRunningSeconds));
   return *mesh;
