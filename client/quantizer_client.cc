@@ -11,16 +11,16 @@
 namespace ispq::client {
 namespace {
 
-absl::Status FromGrpc(const grpc::Status& status) {
-  if (status.ok()) return absl::OkStatus();
-  return absl::Status(static_cast<absl::StatusCode>(status.error_code()), status.error_message());
-}
-
 bool IsTransient(const absl::Status& status) {
   return absl::IsUnavailable(status) || absl::IsInternal(status) || absl::IsUnknown(status);
 }
 
 }  // namespace
+
+absl::Status StatusFromGrpc(const grpc::Status& status) {
+  if (status.ok()) return absl::OkStatus();
+  return absl::Status(static_cast<absl::StatusCode>(status.error_code()), status.error_message());
+}
 
 std::string JobName(const std::string& name_or_id) {
   return absl::StartsWith(name_or_id, "jobs/") ? name_or_id : absl::StrCat("jobs/", name_or_id);
@@ -73,7 +73,7 @@ JobOutcome QuantizerClient::ReadStream(grpc::ClientContext& context,
     while (reader.Read(&event)) {
     }
   }
-  const absl::Status call_status = FromGrpc(reader.Finish());
+  const absl::Status call_status = StatusFromGrpc(reader.Finish());
   if (outcome.job_ended) return outcome;  // the job's own outcome is what counts
   outcome.status =
       stopped ? absl::CancelledError("the event handler stopped the stream") : call_status;
@@ -134,95 +134,46 @@ JobOutcome QuantizerClient::FollowJob(const std::string& job, int64_t from_event
 }
 
 absl::StatusOr<v1::Job> QuantizerClient::SubmitJob(const v1::QuantizeRequest& request) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
-  v1::Job job;
-  if (absl::Status status = FromGrpc(stub_->SubmitJob(&context, request, &job)); !status.ok()) {
-    return status;
-  }
-  return job;
+  return Unary(&v1::Quantizer::StubInterface::SubmitJob, request);
 }
 
 absl::StatusOr<v1::Job> QuantizerClient::GetJob(const std::string& job, v1::JobView view) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
   v1::GetJobRequest request;
   request.set_name(job);
   request.set_view(view);
-  v1::Job response;
-  if (absl::Status status = FromGrpc(stub_->GetJob(&context, request, &response)); !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::GetJob, request);
 }
 
 absl::StatusOr<v1::ListJobsResponse> QuantizerClient::ListJobs(const v1::ListJobsRequest& request) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
-  v1::ListJobsResponse response;
-  if (absl::Status status = FromGrpc(stub_->ListJobs(&context, request, &response)); !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::ListJobs, request);
 }
 
 absl::StatusOr<v1::Job> QuantizerClient::CancelJob(const std::string& job) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
   v1::CancelJobRequest request;
   request.set_name(job);
-  v1::Job response;
-  if (absl::Status status = FromGrpc(stub_->CancelJob(&context, request, &response));
-      !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::CancelJob, request);
 }
 
 absl::StatusOr<v1::Mesh> QuantizerClient::CreateMesh(const v1::TMesh& mesh) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
   v1::CreateMeshRequest request;
   *request.mutable_mesh() = mesh;
-  v1::Mesh response;
-  if (absl::Status status = FromGrpc(stub_->CreateMesh(&context, request, &response));
-      !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::CreateMesh, request);
 }
 
 absl::StatusOr<v1::Mesh> QuantizerClient::GetMesh(const std::string& mesh) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
   v1::GetMeshRequest request;
   request.set_name(mesh);
-  v1::Mesh response;
-  if (absl::Status status = FromGrpc(stub_->GetMesh(&context, request, &response)); !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::GetMesh, request);
 }
 
 absl::Status QuantizerClient::DeleteMesh(const std::string& mesh) {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
   v1::DeleteMeshRequest request;
   request.set_name(mesh);
-  v1::DeleteMeshResponse response;
-  return FromGrpc(stub_->DeleteMesh(&context, request, &response));
+  return Unary(&v1::Quantizer::StubInterface::DeleteMesh, request).status();
 }
 
 absl::StatusOr<v1::ServerStats> QuantizerClient::GetServerStats() {
-  grpc::ClientContext context;
-  Prepare(context, unary_timeout_);
-  v1::ServerStats response;
-  if (absl::Status status =
-          FromGrpc(stub_->GetServerStats(&context, v1::GetServerStatsRequest(), &response));
-      !status.ok()) {
-    return status;
-  }
-  return response;
+  return Unary(&v1::Quantizer::StubInterface::GetServerStats, v1::GetServerStatsRequest());
 }
 
 }  // namespace ispq::client

@@ -50,6 +50,9 @@ struct JobOutcome {
   int64_t next_event = 0;  // resume with WatchJob(job, next_event) if !job_ended
 };
 
+// A gRPC status as an absl::Status with the same code and message.
+absl::Status StatusFromGrpc(const grpc::Status& status);
+
 class QuantizerClient {
  public:
   // `auth_token`, if not empty, is sent as a bearer token. `unary_timeout` bounds every
@@ -84,6 +87,19 @@ class QuantizerClient {
 
  private:
   void Prepare(grpc::ClientContext& context, absl::Duration timeout) const;
+  // One unary call under `unary_timeout_`: every non-streaming method is this, with its stub
+  // method.
+  template <typename Request, typename Response>
+  absl::StatusOr<Response> Unary(grpc::Status (v1::Quantizer::StubInterface::*method)(
+                                     grpc::ClientContext*, const Request&, Response*),
+                                 const Request& request) const {
+    grpc::ClientContext context;
+    Prepare(context, unary_timeout_);
+    Response response;
+    absl::Status status = StatusFromGrpc((stub_.get()->*method)(&context, request, &response));
+    if (!status.ok()) return status;
+    return response;
+  }
   JobOutcome ReadStream(grpc::ClientContext& context,
                         grpc::ClientReaderInterface<v1::QuantizeEvent>& reader,
                         const EventHandler& on_event, JobOutcome outcome) const;
