@@ -20,6 +20,9 @@ class ProgressPrinter {
   void Finish();
 
  private:
+  // Exact mode's phase: nodes, MILP solves, the best objective, the bound and the gap.
+  void UpdateExact(const v1::Progress& progress);
+
   FILE* out_;
   bool tty_;
   bool line_open_ = false;
