@@ -75,10 +75,11 @@ void ProgressPrinter::UpdateExact(const v1::Progress& p) {
                  p.elapsed_seconds());
     line_open_ = true;
   } else {
-    if (last_plain_seconds_ >= 0 &&
-        p.elapsed_seconds() - last_plain_seconds_ < kPlainLineInterval) {
+    // The first exact line marks the change of phase; later ones are throttled.
+    if (exact_line_printed_ && p.elapsed_seconds() - last_plain_seconds_ < kPlainLineInterval) {
       return;
     }
+    exact_line_printed_ = true;
     last_plain_seconds_ = p.elapsed_seconds();
     std::fprintf(out_,
                  "progress phase=exact nodes=%lld solves=%lld objective=%.6f bound=%.6f "

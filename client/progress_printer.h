@@ -27,6 +27,7 @@ class ProgressPrinter {
   bool tty_;
   bool line_open_ = false;
   double last_plain_seconds_ = -1;
+  bool exact_line_printed_ = false;
 };
 
 }  // namespace ispq::cli
