@@ -118,9 +118,8 @@ absl::StatusOr<ExactOutcome> ExactSearch::Run() {
 }
 
 absl::StatusOr<bool> ExactSearch::SolveOnce() {
-  ISPQ_ASSIGN_OR_RETURN(
-      const QuantizationMilp milp,
-      BuildQuantizationMilp(objectives_, constraints_, checker_.best_objective()));
+  ISPQ_ASSIGN_OR_RETURN(const QuantizationMilp milp,
+                        BuildQuantizationMilp(objectives_, constraints_, checker_.best()));
   ISPQ_ASSIGN_OR_RETURN(const MilpResult result, SolveModel(milp));
   ++solves_;
   nodes_ += result.nodes;
@@ -173,9 +172,8 @@ bool ExactSearch::OnBound(double bound, int64_t nodes) {
 }
 
 absl::StatusOr<double> ExactSearch::RelaxationBound() {
-  ISPQ_ASSIGN_OR_RETURN(
-      const QuantizationMilp milp,
-      BuildQuantizationMilp(objectives_, constraints_, checker_.best_objective()));
+  ISPQ_ASSIGN_OR_RETURN(const QuantizationMilp milp,
+                        BuildQuantizationMilp(objectives_, constraints_, checker_.best()));
   ISPQ_ASSIGN_OR_RETURN(const LpResult relaxation, solver_.SolveRelaxation(milp.model));
   return relaxation.status == LpStatus::kOptimal ? relaxation.objective : kNoBound;
 }

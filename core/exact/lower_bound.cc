@@ -31,7 +31,7 @@ absl::StatusOr<double> ComputeLowerBound(const TMesh& mesh, const QuantizeOption
   }
   const double objective = objectives.Objective(x);
   ISPQ_ASSIGN_OR_RETURN(const QuantizationMilp milp,
-                        BuildQuantizationMilp(objectives, constraints, objective));
+                        BuildQuantizationMilp(objectives, constraints, x));
   ISPQ_ASSIGN_OR_RETURN(const LpResult relaxation, solver.SolveRelaxation(milp.model));
   // q itself is feasible, so an infeasible relaxation can only be numerical noise.
   if (relaxation.status != LpStatus::kOptimal) return objective;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "core/exact/window_slacks.h"
 #include "core/quantization_limits.h"
 
 namespace ispq {
@@ -56,24 +57,24 @@ void AddRows(const QuantizationConstraints& constraints, std::span<const int> x_
   }
 }
 
-}  // namespace
-
-absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
-                                                       const QuantizationConstraints& constraints,
-                                                       double upper_bound) {
+// The model with bundle b's window holding the integers within slacks[b] of its best value.
+absl::StatusOr<QuantizationMilp> BuildWithSlacks(const BundleObjectives& objectives,
+                                                 const QuantizationConstraints& constraints,
+                                                 std::span<const double> slacks) {
   const int n = objectives.num_bundles();
-  // A little slack so that the q reaching upper_bound itself is never cut off by rounding.
-  const double slack = upper_bound - objectives.MinimumSum() + 1e-9 * (1 + std::abs(upper_bound));
   std::vector<IntegerWindow> windows(n);
   int64_t secants = 0;
   for (BundleId b = 0; b < n; ++b) {
-    windows[b] = objectives.Window(b, slack);
+    if (!std::isfinite(slacks[b])) {
+      return absl::ResourceExhaustedError("an exact model needs a finite objective bound");
+    }
+    windows[b] = objectives.Window(b, slacks[b]);
     secants += windows[b].hi - windows[b].lo;
   }
-  if (!std::isfinite(upper_bound) || secants > kMaxSecantRows) {
+  if (secants > kMaxSecantRows) {
     return absl::ResourceExhaustedError(
-        absl::StrCat("objective bound ", upper_bound, " is too far above the minimum ",
-                     objectives.MinimumSum(), " for an exact model"));
+        absl::StrCat("the objective bound is too far above the minimum for an exact model (",
+                     secants, " secants)"));
   }
   QuantizationMilp milp;
   milp.x_column.resize(n);
@@ -85,6 +86,28 @@ absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& o
   for (BundleId b = 0; b < n; ++b) AddBundleObjective(objectives, b, windows[b], milp);
   AddRows(constraints, milp.x_column, milp.model);
   return milp;
+}
+
+// A little slack so that the known q itself is never cut off by rounding.
+double WithMargin(double slack, double scale) { return slack + 1e-9 * (1 + std::abs(scale)); }
+
+}  // namespace
+
+absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
+                                                       const QuantizationConstraints& constraints,
+                                                       std::span<const int64_t> x) {
+  std::vector<double> slacks = WindowSlacks(objectives, constraints, x);
+  const double scale = objectives.Objective(x);
+  for (double& slack : slacks) slack = WithMargin(slack, scale);
+  return BuildWithSlacks(objectives, constraints, slacks);
+}
+
+absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
+                                                       const QuantizationConstraints& constraints,
+                                                       double upper_bound) {
+  const std::vector<double> slacks(objectives.num_bundles(),
+                                   WithMargin(upper_bound - objectives.MinimumSum(), upper_bound));
+  return BuildWithSlacks(objectives, constraints, slacks);
 }
 
 MilpModel BuildFeasibilityModel(int num_bundles, const QuantizationConstraints& constraints) {

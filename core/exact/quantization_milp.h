@@ -1,10 +1,10 @@
 // The quantization problem as a MILP over bundles, the model of the exact mode; relaxed, the LP
 // of the lower bound.
 //
-// Given an objective value U that some feasible q reaches, every better q has each bundle value
-// in its window (core/exact/bundle_objective.h). The model has one integer column x_b per bundle,
-// bounded to that window, and the objective in epigraph form: a column z_b >= every secant of
-// f_b inside the window, which makes sum_b z_b = d(q) exact at every integer point of the
+// Given a feasible q, every optimal q has each bundle value in its window
+// (core/exact/bundle_objective.h, core/exact/window_slacks.h). The model has one integer column x_b
+// per bundle, bounded to that window, and the objective in epigraph form: a column z_b >= every
+// secant of f_b inside the window, which makes sum_b z_b = d(q) exact at every integer point of the
 // windows. Bundles whose window holds one or two integers need no z_b: f_b is constant or linear
 // there and goes straight into the objective. The rows are those of QuantizationConstraints.
 #ifndef ISPQ_CORE_EXACT_QUANTIZATION_MILP_H_
@@ -39,8 +39,13 @@ struct QuantizationMilp {
   std::vector<int64_t> BundleValuesOf(std::span<const double> columns) const;
 };
 
-// The model for solutions with objective <= upper_bound (the objective of a known q). Fails with
-// RESOURCE_EXHAUSTED if it would need more than kMaxSecantRows secants.
+// The model whose windows hold every optimal q, given a known q (per-bundle values x; see
+// core/exact/window_slacks.h). Fails with RESOURCE_EXHAUSTED if it would need more than
+// kMaxSecantRows secants.
+absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
+                                                       const QuantizationConstraints& constraints,
+                                                       std::span<const int64_t> x);
+// The model for every q with objective <= upper_bound (one global slack).
 absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
                                                        const QuantizationConstraints& constraints,
                                                        double upper_bound);
