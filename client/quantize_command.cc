@@ -8,7 +8,7 @@
 #include "client/quantize_input.h"
 #include "client/quantizer_client.h"
 #include "client/result_output.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "core/quantizer.h"
 
 namespace ispq::cli {

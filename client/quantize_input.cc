@@ -4,9 +4,9 @@
 #include <utility>
 
 #include "client/exit_codes.h"
-#include "core/quantization_proto.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 
 namespace ispq::cli {
 

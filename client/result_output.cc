@@ -5,7 +5,8 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/exit_codes.h"
-#include "core/tmesh_file.h"
+#include "core/proto/tmesh_file.h"
+#include "core/read_file.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {

@@ -1,7 +1,7 @@
 #include "client/server_connection.h"
 
 #include "absl/status/status.h"
-#include "core/tmesh_file.h"
+#include "core/read_file.h"
 #include "grpcpp/create_channel.h"
 #include "grpcpp/security/credentials.h"
 #include "grpcpp/support/channel_arguments.h"

@@ -4,9 +4,9 @@
 
 #include "client/exit_codes.h"
 #include "core/mesh_stats.h"
-#include "core/mesh_stats_proto.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/mesh_stats_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {

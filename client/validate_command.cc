@@ -6,10 +6,11 @@
 #include "client/exit_codes.h"
 #include "client/result_output.h"
 #include "core/block_extents.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/scaling.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {
@@ -35,7 +36,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     std::cerr << "ispq: " << options.result_path << ": " << q.status().message() << "\n";
     return kExitInvalidInput;
   }
-  absl::StatusOr<double> scaling = ResolveScaling(options.scaling, *mesh);
+  absl::StatusOr<double> scaling = ResolveScaling(ScalingChoiceFromProto(options.scaling), *mesh);
   if (!scaling.ok()) {
     std::cerr << "ispq: " << scaling.status().message() << "\n";
     return kExitUsage;

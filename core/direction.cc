@@ -59,4 +59,12 @@ std::optional<int> EdgeFromUpstreamBits(int bits) {
   return std::nullopt;
 }
 
+std::string EdgeName(int edge_code) {
+  const int running = EdgeAxis(edge_code);
+  const int first = running == 0 ? 1 : 0;
+  const int second = running == 2 ? 1 : 2;
+  return std::string(DirName(MakeDir(first, (edge_code & 1) == 0))) + "_" +
+         DirName(MakeDir(second, (edge_code & 2) == 0));
+}
+
 }  // namespace ispq

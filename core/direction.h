@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 
 namespace ispq {
 
@@ -55,6 +56,8 @@ constexpr int EdgeCode(int running_axis, bool first_other_positive, bool second_
 }
 constexpr int EdgeAxis(int edge_code) { return edge_code / 4; }
 std::optional<int> EdgeFromUpstreamBits(int bits);
+// The format's name of an edge: its two face sides, e.g. "NEG_V_NEG_W" for edge 0.
+std::string EdgeName(int edge_code);
 
 }  // namespace ispq
 

@@ -34,6 +34,7 @@ struct QuantizeStats {
   int64_t separation_rounds = 0;
   int64_t separation_rows = 0;  // structural rows found in all rounds
   int32_t subproblems = 0;      // after merging through separation rows
+  // CPU seconds of the solving thread in each phase.
   double greedy_seconds = 0;
   double separation_search_seconds = 0;
   double separating_update_seconds = 0;
@@ -44,7 +45,7 @@ struct QuantizeStats {
   int64_t milp_nodes = 0;
   int64_t milp_incumbents = 0;
   double exact_seconds = 0;
-  double solve_seconds = 0;  // the whole quantization, in-process, without reading the mesh
+  double solve_seconds = 0;  // wall time of the whole quantization, without reading the mesh
 };
 
 struct QuantizeResult {

@@ -6,7 +6,9 @@
 // halfarc h = 2a + o (twin h ^ 1), halfpatch hp = 2p + k (twin hp ^ 1). All adjacency the
 // quantizer and the separation search need is precomputed at load time.
 //
-// Build one with TMeshFromProto (core/tmesh_from_proto.h); a TMesh that exists is valid.
+// TMeshBuilder (core/tmesh_builder.h) is the only code that writes one, after checking every rule;
+// so a TMesh that exists is valid. From an ispq.v1 message, use TMeshFromProto
+// (core/proto/tmesh_from_proto.h).
 #ifndef ISPQ_CORE_TMESH_H_
 #define ISPQ_CORE_TMESH_H_
 
@@ -177,7 +179,7 @@ class TMesh {
   std::span<const Level> levels() const { return levels_; }
 
  private:
-  friend class TMeshAssembler;
+  friend class TMeshBuilder;
 
   std::string name_;
   bool features_present_ = false;

@@ -3,6 +3,7 @@
 #include <utility>
 
 #include "google/protobuf/util/time_util.h"
+#include "server/job_memory.h"
 #include "server/resource_names.h"
 
 namespace ispq::server {
@@ -14,13 +15,15 @@ google::protobuf::Timestamp ToTimestamp(absl::Time time) {
 
 }  // namespace
 
-Job::Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now)
+Job::Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now,
+         MemoryBudget* budget)
     : id_(std::move(id)),
       name_(ResourceName(kJobCollection, id_)),
       spec_(std::move(spec)),
       mesh_display_name_(spec_.mesh->name()),
       bound_to_call_(bound_to_call),
-      create_time_(now) {
+      create_time_(now),
+      budget_(budget) {
   v1::QuantizeEvent event = NewEvent(now);
   v1::JobAccepted* accepted = event.mutable_accepted();
   *accepted->mutable_mesh_stats() = spec_.mesh_stats;
@@ -55,7 +58,14 @@ std::vector<std::shared_ptr<JobWatcher>> Job::EndLocked(v1::JobState state, absl
                                                         v1::QuantizeEvent terminal) {
   state_ = state;
   end_time_ = now;
+  if (budget_ != nullptr) {
+    // What the job keeps from now on; it must be kept whatever the budget says.
+    retained_memory_ = budget_->ForceReserve(
+        MemoryUse::kResults,
+        RetainedJobBytes(terminal.has_result() ? &terminal.result() : nullptr));
+  }
   spec_.mesh.reset();
+  spec_.memory.Release();
   return AppendLocked(std::move(terminal));
 }
 
@@ -154,6 +164,8 @@ v1::Job Job::ToProto(v1::JobView view) const {
   *proto.mutable_options() = spec_.requested_options;
   proto.set_scaling(spec_.options.scaling);
   proto.set_bound_to_call(bound_to_call_);
+  proto.set_owner(spec_.owner);
+  proto.set_request_id(spec_.request_id);
   absl::MutexLock lock(&mutex_);
   proto.set_state(state_);
   proto.set_done(end_time_.has_value());

@@ -6,8 +6,10 @@
 // All mutable state is guarded by one mutex. Watchers are notified after every event with the
 // mutex released, so that a watcher may read the job from its notification.
 //
-// Memory: a job lets go of its mesh when it ends (only the worker reads it, and only while it
-// runs), so the finished jobs the store retains hold their result and a few events, no mesh.
+// Memory: a job lets go of its mesh and its solver reservation when it ends (only the worker
+// reads the mesh, and only while it runs), so the finished jobs the store retains hold their
+// result and a few events, no mesh; with a memory budget, the job then accounts for what it
+// retains (server/job_memory.h) until it is destroyed.
 #ifndef ISPQ_SERVER_JOB_H_
 #define ISPQ_SERVER_JOB_H_
 
@@ -25,6 +27,7 @@
 #include "ispq/v1/service.pb.h"
 #include "server/job_event_log.h"
 #include "server/job_spec.h"
+#include "server/memory_budget.h"
 
 namespace ispq::server {
 
@@ -40,13 +43,15 @@ class JobWatcher {
 class Job {
  public:
   // Emits the accepted event (number 0). `bound_to_call`: the job was started by a Quantize
-  // call and ends with it.
-  Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now);
+  // call and ends with it. `budget` (may be null) accounts for the job once it has ended.
+  Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now,
+      MemoryBudget* budget = nullptr);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
+  const std::string& owner() const { return spec_.owner; }
   // The worker's view while it runs the job; the mesh is null once the job has ended.
   const JobSpec& spec() const { return spec_; }
   bool bound_to_call() const { return bound_to_call_; }
@@ -110,6 +115,7 @@ class Job {
   const std::string mesh_display_name_;
   const bool bound_to_call_;
   const absl::Time create_time_;
+  MemoryBudget* const budget_;
   SolveInterrupter interrupter_;
 
   mutable absl::Mutex mutex_;
@@ -120,6 +126,7 @@ class Job {
   std::optional<v1::Progress> latest_progress_ ABSL_GUARDED_BY(mutex_);
   JobEventLog events_ ABSL_GUARDED_BY(mutex_);
   std::vector<std::weak_ptr<JobWatcher>> watchers_ ABSL_GUARDED_BY(mutex_);
+  MemoryReservation retained_memory_ ABSL_GUARDED_BY(mutex_);  // from the end on
 };
 
 }  // namespace ispq::server

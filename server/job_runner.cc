@@ -8,7 +8,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "core/quantizer.h"
 #include "server/log_value.h"
 #include "server/progress_publisher.h"

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "server/resource_names.h"
+#include "server/retry_hint.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
@@ -19,8 +20,10 @@ constexpr absl::Duration kRetryHintWithoutHistory = absl::Seconds(1);
 
 }  // namespace
 
-JobScheduler::JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics)
+JobScheduler::JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics,
+                           MemoryBudget* budget)
     : metrics_(metrics),
+      budget_(budget),
       store_(config.retention),
       queue_(config.max_queued_jobs),
       pool_(config.workers, queue_, metrics) {}
@@ -32,13 +35,12 @@ JobScheduler::~JobScheduler() {
 
 absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Submit(JobSpec spec, bool bound_to_call) {
   const absl::Time now = absl::Now();
-  auto job =
-      std::make_shared<Job>(NewResourceId(), std::move(spec), bound_to_call, queue_.waiting(), now);
+  auto job = std::make_shared<Job>(NewResourceId(), std::move(spec), bound_to_call,
+                                   queue_.waiting(), now, budget_);
   if (absl::Status pushed = queue_.Push(job); !pushed.ok()) {
     if (absl::IsResourceExhausted(pushed)) {
       metrics_.RecordRejectedQueueFull();
-      return absl::ResourceExhaustedError(absl::StrCat(
-          pushed.message(), "; retry in ", absl::ToInt64Milliseconds(RetryHint()), " ms"));
+      return ResourceExhaustedWithRetryHint(pushed.message(), RetryHint());
     }
     return pushed;
   }
@@ -52,9 +54,8 @@ std::shared_ptr<Job> JobScheduler::Find(const std::string& id) {
   return store_.Find(id, absl::Now());
 }
 
-absl::StatusOr<JobStore::Page> JobScheduler::List(int page_size, const std::string& page_token,
-                                                  v1::JobState state) {
-  return store_.List(page_size, page_token, state, absl::Now());
+absl::StatusOr<JobStore::Page> JobScheduler::List(const JobStore::Query& query) {
+  return store_.List(query, absl::Now());
 }
 
 void JobScheduler::Cancel(Job& job) {

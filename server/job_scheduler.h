@@ -16,6 +16,7 @@
 #include "server/job_queue.h"
 #include "server/job_spec.h"
 #include "server/job_store.h"
+#include "server/memory_budget.h"
 #include "server/server_metrics.h"
 #include "server/worker_pool.h"
 
@@ -29,17 +30,20 @@ struct SchedulerConfig {
 
 class JobScheduler {
  public:
-  JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics);
+  // `budget` (may be null) accounts for jobs once they have ended (server/job.h).
+  JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics,
+               MemoryBudget* budget = nullptr);
   ~JobScheduler();
   JobScheduler(const JobScheduler&) = delete;
   JobScheduler& operator=(const JobScheduler&) = delete;
 
-  // Creates the job and queues it. RESOURCE_EXHAUSTED (with a retry hint in the message, see
-  // RetryHint) when the queue is full; UNAVAILABLE once shutdown has begun.
+  // Creates the job and queues it. RESOURCE_EXHAUSTED (with a retry hint, see RetryHint and
+  // server/retry_hint.h) when the queue is full; UNAVAILABLE once shutdown has begun.
   absl::StatusOr<std::shared_ptr<Job>> Submit(JobSpec spec, bool bound_to_call);
   std::shared_ptr<Job> Find(const std::string& id);
-  absl::StatusOr<JobStore::Page> List(int page_size, const std::string& page_token,
-                                      v1::JobState state);
+  absl::StatusOr<JobStore::Page> List(const JobStore::Query& query);
+  // Drops the retained job that ended first, to make room in the memory budget.
+  bool EvictOldestFinished() { return store_.EvictOldestFinished(); }
   // Ends a queued job at once (CANCELLED) or interrupts a running one; no effect once done.
   void Cancel(Job& job);
 
@@ -57,12 +61,15 @@ class JobScheduler {
   void InterruptRunning();
 
   bool accepting() const { return !queue_.closed(); }
+  // Whether a new job would be refused for a full queue.
+  bool queue_full() const { return queue_.waiting() >= queue_.capacity(); }
 
   // Queue, worker and job gauges of `stats`.
   void FillStats(v1::ServerStats& stats) const;
 
  private:
   ServerMetrics& metrics_;
+  MemoryBudget* const budget_;
   JobStore store_;
   JobQueue queue_;
   WorkerPool pool_;  // declared last: destroyed (joined) first, while the queue still exists

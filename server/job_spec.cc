@@ -5,7 +5,9 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "server/job_memory.h"
+#include "server/memory_admission.h"
 #include "server/mesh_admission.h"
 #include "server/resource_names.h"
 
@@ -30,30 +32,52 @@ absl::StatusOr<absl::Duration> ReportInterval(const char* field, bool present,
   return std::max(interval, kMinReportInterval);
 }
 
+// The request's own mesh, with memory reserved for it before it is built.
+absl::Status AdmitInlineMesh(const v1::TMesh& proto, int64_t request_bytes,
+                             const AdmissionContext& context, JobSpec& spec) {
+  if (absl::Status size = CheckMeshSize(proto, context.limits.max_arcs); !size.ok()) return size;
+  absl::StatusOr<MemoryReservation> memory =
+      context.memory.Reserve(MemoryUse::kJobs, MeshBytes(request_bytes), "the mesh");
+  if (!memory.ok()) return memory.status();
+  absl::StatusOr<AdmittedMesh> admitted =
+      AdmitMesh(proto, context.limits.max_arcs, *std::move(memory));
+  if (!admitted.ok()) return admitted.status();
+  spec.mesh = std::move(admitted->mesh);
+  spec.mesh_stats = std::move(admitted->stats);
+  return absl::OkStatus();
+}
+
 }  // namespace
 
-absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, const JobLimits& limits,
-                                       MeshStore& meshes) {
+absl::StatusOr<std::shared_ptr<const StoredMesh>> FindStoredMesh(const std::string& name,
+                                                                 const Principal& principal,
+                                                                 MeshStore& meshes) {
+  absl::StatusOr<std::string> id = ParseResourceName(kMeshCollection, name);
+  if (!id.ok()) return id.status();
+  std::shared_ptr<const StoredMesh> stored = meshes.Find(*id);
+  if (stored == nullptr || !principal.CanAccess(stored->owner)) {
+    return absl::NotFoundError(absl::StrCat(
+        "stored mesh ", name,
+        " not found: it was never created, was deleted, or was evicted; upload it again"));
+  }
+  return stored;
+}
+
+absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, int64_t request_bytes,
+                                       const AdmissionContext& context) {
   JobSpec spec;
   switch (request.mesh_source_case()) {
     case v1::QuantizeRequest::kMesh: {
-      absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(request.mesh(), limits.max_arcs);
-      if (!admitted.ok()) return admitted.status();
-      spec.mesh = std::move(admitted->mesh);
-      spec.mesh_stats = std::move(admitted->stats);
+      absl::Status admitted = AdmitInlineMesh(request.mesh(), request_bytes, context, spec);
+      if (!admitted.ok()) return admitted;
       break;
     }
     case v1::QuantizeRequest::kStoredMesh: {
-      absl::StatusOr<std::string> id = ParseResourceName(kMeshCollection, request.stored_mesh());
-      if (!id.ok()) return id.status();
-      std::shared_ptr<const StoredMesh> stored = meshes.Find(*id);
-      if (stored == nullptr) {
-        return absl::NotFoundError(absl::StrCat(
-            "stored mesh ", request.stored_mesh(),
-            " not found: it was never created, was deleted, or was evicted; upload it again"));
-      }
-      spec.mesh = stored->admitted.mesh;
-      spec.mesh_stats = stored->admitted.stats;
+      absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
+          FindStoredMesh(request.stored_mesh(), context.principal, context.meshes);
+      if (!stored.ok()) return stored.status();
+      spec.mesh = (*stored)->admitted.mesh;
+      spec.mesh_stats = (*stored)->admitted.stats;
       spec.stored_mesh = request.stored_mesh();
       break;
     }
@@ -64,7 +88,7 @@ absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, const
   absl::StatusOr<QuantizeOptions> options = QuantizeOptionsFromProto(request.options(), *spec.mesh);
   if (!options.ok()) return options.status();
   spec.options = *options;
-  const double max_seconds = absl::ToDoubleSeconds(limits.max_job_time);
+  const double max_seconds = absl::ToDoubleSeconds(context.limits.max_job_time);
   spec.options.time_limit_seconds = std::min(spec.options.time_limit_seconds, max_seconds);
   spec.requested_options = request.options();
 
@@ -78,6 +102,14 @@ absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, const
                      request.intermediate_interval(), absl::ZeroDuration());
   if (!intermediate.ok()) return intermediate.status();
   spec.intermediate_interval = *intermediate;
+  spec.owner = context.principal.name;
+  spec.request_id = request.request_id();
+
+  // Last, once the request is known to be valid: the solver's working memory.
+  absl::StatusOr<MemoryReservation> working = context.memory.Reserve(
+      MemoryUse::kJobs, SolverBytes(spec.mesh->num_arcs()), "the job's solver working memory");
+  if (!working.ok()) return working.status();
+  spec.memory = *std::move(working);
   return spec;
 }
 

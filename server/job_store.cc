@@ -33,15 +33,15 @@ std::shared_ptr<Job> JobStore::Find(const std::string& id, absl::Time now) {
   return it == ordinal_by_id_.end() ? nullptr : by_ordinal_.at(it->second);
 }
 
-absl::StatusOr<JobStore::Page> JobStore::List(int page_size, const std::string& page_token,
-                                              v1::JobState state, absl::Time now) {
-  if (page_size < 0) {
-    return absl::InvalidArgumentError(absl::StrCat("page_size ", page_size, " is negative"));
+absl::StatusOr<JobStore::Page> JobStore::List(const Query& query, absl::Time now) {
+  if (query.page_size < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("page_size ", query.page_size, " is negative"));
   }
-  const int size = page_size == 0 ? kDefaultPageSize : std::min(page_size, kMaxPageSize);
+  const int size =
+      query.page_size == 0 ? kDefaultPageSize : std::min(query.page_size, kMaxPageSize);
   // The token is the ordinal of the next job to list: listing resumes below it.
   uint64_t start = UINT64_MAX;
-  if (!page_token.empty() && !absl::SimpleAtoi(page_token, &start)) {
+  if (!query.page_token.empty() && !absl::SimpleAtoi(query.page_token, &start)) {
     return absl::InvalidArgumentError("page_token is not one this server issued");
   }
   Page page;
@@ -49,14 +49,34 @@ absl::StatusOr<JobStore::Page> JobStore::List(int page_size, const std::string& 
   PruneLocked(now);
   for (auto it = std::make_reverse_iterator(by_ordinal_.upper_bound(start));
        it != by_ordinal_.rend(); ++it) {
-    if (state != v1::JOB_STATE_UNSPECIFIED && it->second->state() != state) continue;
+    const Job& job = *it->second;
+    if (query.state != v1::JOB_STATE_UNSPECIFIED && job.state() != query.state) continue;
+    if (query.visible && !query.visible(job)) continue;
     if (static_cast<int>(page.jobs.size()) == size) {
       page.next_page_token = absl::StrCat(it->first);
       break;
     }
-    page.jobs.push_back(it->second);
+    page.jobs.push_back({it->second, absl::StrCat(it->first)});
   }
   return page;
+}
+
+bool JobStore::EvictOldestFinished() {
+  std::shared_ptr<Job> evicted;  // destroyed after the lock is released
+  absl::MutexLock lock(&mutex_);
+  std::optional<std::pair<absl::Time, uint64_t>> oldest;
+  for (const auto& [ordinal, job] : by_ordinal_) {
+    if (std::optional<absl::Time> end = job->end_time(); end.has_value()) {
+      oldest =
+          std::min(oldest.value_or(std::make_pair(*end, ordinal)), std::make_pair(*end, ordinal));
+    }
+  }
+  if (!oldest.has_value()) return false;
+  const auto it = by_ordinal_.find(oldest->second);
+  evicted = std::move(it->second);
+  ordinal_by_id_.erase(evicted->id());
+  by_ordinal_.erase(it);
+  return true;
 }
 
 std::vector<std::shared_ptr<Job>> JobStore::ActiveJobs() const {

@@ -1,11 +1,13 @@
 // Every job the server can answer about: all queued and running jobs, and finished jobs while
 // the retention policy keeps them (at most `max_finished` of them, none older than `max_age`
 // after it ended; the oldest-ended go first). Pruning happens on each access, so no timer thread
-// is needed and memory is bounded by the queue, the workers and the policy. Thread-safe.
+// is needed and memory is bounded by the queue, the workers and the policy; the memory budget
+// may also evict the oldest-ended job early (EvictOldestFinished). Thread-safe.
 #ifndef ISPQ_SERVER_JOB_STORE_H_
 #define ISPQ_SERVER_JOB_STORE_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -34,14 +36,25 @@ class JobStore {
   // nullptr if the job is unknown or no longer retained.
   std::shared_ptr<Job> Find(const std::string& id, absl::Time now);
 
-  struct Page {
-    std::vector<std::shared_ptr<Job>> jobs;  // newest first
-    std::string next_page_token;             // empty on the last page
+  struct Query {
+    int page_size = 0;  // 0: the default; clamped to the maximum
+    std::string page_token;
+    v1::JobState state = v1::JOB_STATE_UNSPECIFIED;  // unspecified: all
+    std::function<bool(const Job&)> visible;         // empty: all
   };
-  // `state` JOB_STATE_UNSPECIFIED lists all. INVALID_ARGUMENT for a token this store did not
-  // issue.
-  absl::StatusOr<Page> List(int page_size, const std::string& page_token, v1::JobState state,
-                            absl::Time now);
+  struct Listed {
+    std::shared_ptr<Job> job;
+    std::string token;  // the page token that resumes listing at this job
+  };
+  struct Page {
+    std::vector<Listed> jobs;     // newest first
+    std::string next_page_token;  // empty on the last page
+  };
+  // INVALID_ARGUMENT for a negative page size or a token this store did not issue.
+  absl::StatusOr<Page> List(const Query& query, absl::Time now);
+
+  // Drops the finished job that ended first; false if no job has finished.
+  bool EvictOldestFinished();
 
   // Jobs that have not ended (queued or running).
   std::vector<std::shared_ptr<Job>> ActiveJobs() const;

@@ -1,5 +1,7 @@
 #include "server/mesh_store.h"
 
+#include <algorithm>
+#include <iterator>
 #include <utility>
 
 #include "server/resource_names.h"
@@ -8,9 +10,11 @@ namespace ispq::server {
 
 MeshStore::MeshStore(int capacity) : capacity_(capacity) {}
 
-std::shared_ptr<const StoredMesh> MeshStore::Add(AdmittedMesh admitted, absl::Time now) {
+std::shared_ptr<const StoredMesh> MeshStore::Add(AdmittedMesh admitted, std::string owner,
+                                                 absl::Time now) {
   auto stored = std::make_shared<StoredMesh>();
   stored->admitted = std::move(admitted);
+  stored->owner = std::move(owner);
   stored->create_time = now;
   absl::MutexLock lock(&mutex_);
   do {
@@ -39,6 +43,20 @@ bool MeshStore::Remove(const std::string& id) {
   if (it == by_id_.end()) return false;
   recency_.erase(it->second);
   by_id_.erase(it);
+  return true;
+}
+
+bool MeshStore::EvictLeastRecentlyUsed() {
+  std::shared_ptr<const StoredMesh> evicted;  // released after the lock, like any last reference
+  absl::MutexLock lock(&mutex_);
+  // A mesh that a job holds would stay in memory anyway: evicting it would only lose it.
+  const auto unused = std::find_if(recency_.rbegin(), recency_.rend(), [](const auto& stored) {
+    return stored->admitted.mesh.use_count() == 1;
+  });
+  if (unused == recency_.rend()) return false;
+  evicted = *unused;
+  by_id_.erase(evicted->id);
+  recency_.erase(std::next(unused).base());
   return true;
 }
 

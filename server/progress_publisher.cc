@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 
 namespace ispq::server {
 

@@ -23,6 +23,16 @@ constexpr absl::Duration kMaxFlushTime = absl::Seconds(5);
 constexpr int kKeepaliveTimeMs = 60 * 1000;
 constexpr int kKeepaliveTimeoutMs = 20 * 1000;
 
+// Readiness turns NOT_SERVING when less than this part of the memory budget is left for new
+// work once everything evictable is evicted.
+constexpr int64_t kReadyMemoryFraction = 8;
+
+AuthenticationConfig AuthenticationConfigOf(const ServerConfig& config) {
+  return {.tokens = config.auth_tokens,
+          .client_certificates = !config.tls.client_ca.empty(),
+          .admin_principals = config.admin_principals};
+}
+
 SchedulerConfig SchedulerConfigOf(const ServerConfig& config) {
   SchedulerConfig scheduler;
   scheduler.workers = config.workers;
@@ -36,11 +46,24 @@ SchedulerConfig SchedulerConfigOf(const ServerConfig& config) {
 
 QuantizerServer::QuantizerServer(const ServerConfig& config)
     : config_(config),
+      budget_(config.max_memory_bytes),
       meshes_(config.max_stored_meshes),
-      authenticator_(config.auth_token),
-      scheduler_(SchedulerConfigOf(config), metrics_),
-      service_(scheduler_, meshes_, metrics_, authenticator_,
-               JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time}) {}
+      authenticator_(AuthenticationConfigOf(config)),
+      scheduler_(SchedulerConfigOf(config), metrics_, &budget_),
+      memory_(budget_, scheduler_, meshes_, metrics_),
+      service_(ServiceParts{.scheduler = scheduler_,
+                            .meshes = meshes_,
+                            .metrics = metrics_,
+                            .memory = memory_,
+                            .authenticator = authenticator_},
+               JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time},
+               AdmissionConfig{.threads = config.admission_threads,
+                               .max_waiting = config.max_waiting_admissions}) {}
+
+bool QuantizerServer::Ready() const {
+  return scheduler_.accepting() && !scheduler_.queue_full() && !service_.admissions_full() &&
+         budget_.pinned() <= budget_.limit() - budget_.limit() / kReadyMemoryFraction;
+}
 
 absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
     const ServerConfig& config) {
@@ -64,14 +87,18 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
     server->shut_down_ = true;  // nothing is listening: the destructor only stops the workers
     return absl::UnavailableError(absl::StrCat("cannot listen on ", config.listen_address));
   }
-  server->server_->GetHealthCheckService()->SetServingStatus(v1::Quantizer::service_full_name(),
-                                                             true);
+  grpc::HealthCheckServiceInterface* health = server->server_->GetHealthCheckService();
+  health->SetServingStatus(v1::Quantizer::service_full_name(), true);
+  QuantizerServer* const self = server.get();
+  server->readiness_ = std::make_unique<ReadinessMonitor>(health, [self] { return self->Ready(); });
   spdlog::info(
       "event=server_start listen={} port={} workers={} max_queued_jobs={} max_arcs={} "
-      "max_message_bytes={} max_job_seconds={} tls={} client_certificates={} auth_token={}",
+      "max_message_bytes={} max_memory_bytes={} admission_threads={} max_job_seconds={} tls={} "
+      "client_certificates={} token_principals={} admin_principals={}",
       config.listen_address, server->port_, config.workers, config.max_queued_jobs, config.max_arcs,
-      config.max_message_bytes, absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
-      !config.tls.client_ca.empty(), !config.auth_token.empty());
+      config.max_message_bytes, config.max_memory_bytes, config.admission_threads,
+      absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
+      !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size());
   return server;
 }
 
@@ -86,6 +113,7 @@ void QuantizerServer::Shutdown() {
   spdlog::info("event=shutdown_begin grace_seconds={}",
                absl::ToDoubleSeconds(config_.shutdown_grace));
 
+  readiness_.reset();  // before the health service stops taking statuses
   server_->GetHealthCheckService()->Shutdown();
   scheduler_.StopAccepting();
   bool idle = scheduler_.WaitUntilIdle(deadline - flush_time);

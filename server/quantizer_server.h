@@ -1,12 +1,16 @@
 // ispq-server: the quantization service of proto/ispq/v1/service.proto, with standard health
-// checking (grpc.health.v1) and server reflection, as one object that owns all its parts.
+// checking (grpc.health.v1: liveness, and readiness as service "readiness") and server
+// reflection, as one object that owns all its parts.
 //
 // Threading model
-//   * gRPC's callback API. RPC handlers run on gRPC's own threads and never block: unary
-//     methods validate a request and look things up; the streaming methods (Quantize, WatchJob)
-//     return a reactor (JobEventStream) that writes one event at a time and is woken by the job
-//     when it has a new event and by gRPC when a write completes. A thousand watchers cost a
-//     thousand small objects, not a thousand threads.
+//   * gRPC's callback API. RPC handlers run on gRPC's own threads and never block: lookups are
+//     answered there; requests that carry a mesh (Quantize, SubmitJob, CreateMesh) are parsed
+//     and validated there only when small, else on a small admission pool (--admission_threads,
+//     server/admission_pool.h), so that a burst of large requests cannot occupy gRPC's threads
+//     and stall health checks. The streaming methods (Quantize, WatchJob) return a reactor
+//     (JobEventStream) that writes one event at a time and is woken by the job when it has a new
+//     event and by gRPC when a write completes. A thousand watchers cost a thousand small
+//     objects, not a thousand threads.
 //   * A fixed pool of worker threads (--workers, default one per hardware thread). Each worker
 //     takes one job at a time from a bounded FIFO queue (--max_queued_jobs) and runs the core
 //     quantizer on it single-threaded; admission past a full queue is RESOURCE_EXHAUSTED with a
@@ -15,14 +19,25 @@
 //   * Cancellation is cooperative: CancelJob, the end of a Quantize call (client cancel,
 //     disconnect, deadline) and shutdown set the job's SolveInterrupter, which the solver checks
 //     between LP solves; it then returns the best valid quantization found so far, if any.
-//   * Shared state: each job guards itself with one mutex; the job store, queue, mesh store and
-//     histograms each have their own. Locks are never held while calling into gRPC or while
-//     notifying watchers, and the only nesting is store/stream -> job.
+//   * Readiness is polled by a thread of its own (server/readiness_monitor.h).
+//   * Shared state: each job guards itself with one mutex; the job store, queue, mesh store,
+//     request ids, admission pool, memory budget and histograms each have their own. Locks are
+//     never held while calling into gRPC or while notifying watchers; the nesting is
+//     request ids -> store -> job, store/stream -> job, and anything -> memory budget (which
+//     calls nothing).
 //
-// Ownership: QuantizerServer owns the metrics, the mesh store, the scheduler (job store, queue,
-// workers), the service and the grpc::Server; jobs are shared between the scheduler and the
-// streams watching them. Members are destroyed in reverse order: the gRPC server first (no
-// more calls), then the service, then the scheduler (joins the workers).
+// Memory: everything held for clients is accounted in one budget (--max_memory_bytes,
+// server/memory_budget.h): requests while they are admitted, queued and running jobs' meshes and
+// solver memory, stored meshes, retained results and responses in flight. Admission refuses
+// what does not fit after evicting retained results and stored meshes (server/memory_admission.h).
+//
+// Ownership: QuantizerServer owns the metrics, the memory budget, the mesh store, the
+// authenticator, the scheduler (job store, queue, workers), the service (with the admission
+// pool and the request ids), the grpc::Server and the readiness monitor; jobs are shared between
+// the scheduler and the streams watching them. Members are destroyed in reverse order: the
+// readiness monitor, the gRPC server (no more calls), the service (drains the admission pool),
+// then the scheduler (joins the workers), and the budget last, after everything that holds
+// reservations on it.
 //
 // Graceful shutdown (SIGTERM/SIGINT in server_main.cc, or Shutdown()): health turns
 // NOT_SERVING, new jobs are refused with UNAVAILABLE and queued ones end with UNAVAILABLE (they
@@ -37,10 +52,13 @@
 
 #include "absl/status/statusor.h"
 #include "grpcpp/server.h"
-#include "server/bearer_token_authenticator.h"
+#include "server/authenticator.h"
 #include "server/job_scheduler.h"
+#include "server/memory_admission.h"
+#include "server/memory_budget.h"
 #include "server/mesh_store.h"
 #include "server/quantizer_service.h"
+#include "server/readiness_monitor.h"
 #include "server/server_config.h"
 #include "server/server_metrics.h"
 
@@ -66,13 +84,19 @@ class QuantizerServer {
  private:
   explicit QuantizerServer(const ServerConfig& config);
 
+  // Whether a new job would be accepted now (server/readiness_monitor.h).
+  bool Ready() const;
+
   const ServerConfig config_;
   ServerMetrics metrics_;
+  MemoryBudget budget_;
   MeshStore meshes_;
-  BearerTokenAuthenticator authenticator_;
+  Authenticator authenticator_;
   JobScheduler scheduler_;
+  MemoryAdmission memory_;
   QuantizerService service_;
   std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<ReadinessMonitor> readiness_;
   int port_ = 0;
   bool shut_down_ = false;
 };

@@ -1,5 +1,7 @@
 #include "server/quantizer_service.h"
 
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -8,11 +10,12 @@
 #include "absl/time/clock.h"
 #include "google/protobuf/util/time_util.h"
 #include "server/grpc_status.h"
-#include "server/job_event_stream.h"
+#include "server/job_memory.h"
 #include "server/log_value.h"
 #include "server/mesh_admission.h"
-#include "server/raw_proto_call.h"
+#include "server/request_fingerprint.h"
 #include "server/resource_names.h"
+#include "server/retry_hint.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
@@ -20,12 +23,15 @@ namespace {
 
 using google::protobuf::util::TimeUtil;
 
-// A stream that ends before its first event: bad request, full queue, unknown job.
-class RejectedStream : public grpc::ServerWriteReactor<grpc::ByteBuffer> {
- public:
-  explicit RejectedStream(grpc::Status status) { Finish(std::move(status)); }
-  void OnDone() override { delete this; }
-};
+// Lookups (names, paging) are tiny; anything larger is not one.
+constexpr int64_t kMaxLookupRequestBytes = 64 << 10;
+constexpr int64_t kNoSizeLimit = std::numeric_limits<int64_t>::max();  // gRPC's limit applies
+// Requests up to this size are admitted on gRPC's thread: parsing and validating them takes
+// about a millisecond, less than handing them to another thread would add.
+constexpr int64_t kInlineAdmissionBytes = 256 << 10;
+// A ListJobs page stops before its serialized size passes this (clients' default limit: 4 MiB).
+constexpr int64_t kMaxListPageBytes = (4 << 20) - (64 << 10);
+constexpr absl::Duration kAdmissionRetryHint = absl::Milliseconds(500);
 
 v1::Mesh MeshToProto(const StoredMesh& stored) {
   v1::Mesh proto;
@@ -34,37 +40,55 @@ v1::Mesh MeshToProto(const StoredMesh& stored) {
   *proto.mutable_mesh_stats() = stored.admitted.stats;
   *proto.mutable_create_time() =
       TimeUtil::NanosecondsToTimestamp(absl::ToUnixNanos(stored.create_time));
+  proto.set_owner(stored.owner);
   return proto;
+}
+
+absl::Status CancelledBeforeAdmission() {
+  return absl::CancelledError("the call ended before its request was admitted");
 }
 
 }  // namespace
 
-QuantizerService::QuantizerService(JobScheduler& scheduler, MeshStore& meshes,
-                                   ServerMetrics& metrics,
-                                   const BearerTokenAuthenticator& authenticator, JobLimits limits)
-    : scheduler_(scheduler),
-      meshes_(meshes),
-      metrics_(metrics),
-      authenticator_(authenticator),
+QuantizerService::QuantizerService(ServiceParts parts, JobLimits limits, AdmissionConfig admission)
+    : scheduler_(parts.scheduler),
+      meshes_(parts.meshes),
+      metrics_(parts.metrics),
+      memory_(parts.memory),
+      authenticator_(parts.authenticator),
       limits_(limits),
-      start_time_(absl::Now()) {}
+      start_time_(absl::Now()),
+      request_ids_(
+          [&scheduler = parts.scheduler](const std::string& id) { return scheduler.Find(id); }),
+      admission_pool_(admission.threads, admission.max_waiting) {}
 
-template <typename Request, typename Handler>
-grpc::ServerUnaryReactor* QuantizerService::Unary(grpc::CallbackServerContext* context,
-                                                  const grpc::ByteBuffer* request,
-                                                  grpc::ByteBuffer* response, Handler&& handler) {
-  if (grpc::Status auth = authenticator_.Check(*context); !auth.ok()) {
-    grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-    reactor->Finish(std::move(auth));
-    return reactor;
+// ---------------------------------------------------------------------------------------------
+// Requests that carry a mesh
+
+bool QuantizerService::Dispatch(int64_t request_bytes, AdmissionPool::Task admit) {
+  if (request_bytes <= kInlineAdmissionBytes) {
+    std::move(admit)();
+    return true;
   }
-  return AnswerUnary<Request>(context, *request, response, std::forward<Handler>(handler));
+  return admission_pool_.TrySchedule(std::move(admit));
 }
 
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::Admit(grpc::CallbackServerContext& context,
-                                                             const v1::QuantizeRequest& request,
-                                                             bool bound_to_call) {
-  absl::StatusOr<JobSpec> spec = PrepareJobSpec(request, limits_, meshes_);
+absl::Status QuantizerService::AdmissionPoolFull() const {
+  metrics_.RecordRejectedQueueFull();
+  return ResourceExhaustedWithRetryHint(
+      absl::StrCat("too many large requests are waiting to be admitted (",
+                   admission_pool_.max_waiting(), ")"),
+      kAdmissionRetryHint);
+}
+
+absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
+    const grpc::CallbackServerContext& context, const Principal& principal,
+    const v1::QuantizeRequest& request, int64_t request_bytes, bool bound_to_call) {
+  if (!scheduler_.accepting()) {
+    return absl::UnavailableError("the server is shutting down and accepts no jobs");
+  }
+  const AdmissionContext admission{limits_, principal, meshes_, memory_};
+  absl::StatusOr<JobSpec> spec = PrepareJobSpec(request, request_bytes, admission);
   if (!spec.ok()) {
     if (absl::IsInvalidArgument(spec.status())) metrics_.RecordRejectedInvalid();
     spdlog::debug("event=job_rejected peer={} code={} error={}", context.peer(),
@@ -72,20 +96,212 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::Admit(grpc::CallbackServe
                   QuotedLogValue(std::string(spec.status().message())));
     return spec.status();
   }
-  absl::StatusOr<std::shared_ptr<Job>> job = scheduler_.Submit(*std::move(spec), bound_to_call);
-  if (absl::IsResourceExhausted(job.status())) {
-    // gRFC A6: a client with a retry policy waits this long before retrying.
-    context.AddTrailingMetadata("grpc-retry-pushback-ms",
-                                absl::StrCat(absl::ToInt64Milliseconds(scheduler_.RetryHint())));
-  }
-  return job;
+  return scheduler_.Submit(*std::move(spec), bound_to_call);
 }
 
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string& name) {
+grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
+    grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
+  std::shared_ptr<JobEventStream> stream = JobEventStream::Create(&scheduler_, &memory_.budget());
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
+  if (!principal.ok()) {
+    stream->Reject(ToGrpcStatus(principal.status()));
+    return stream.get();
+  }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
+  if (!raw.ok()) {
+    stream->Reject(ToGrpcStatus(raw.status(), *context));
+    return stream.get();
+  }
+  const int64_t size = raw->size;
+  const bool dispatched = Dispatch(size, [this, context, stream, principal = *std::move(principal),
+                                          raw = *std::move(raw)]() mutable {
+    AdmitQuantize(*context, *stream, principal, raw);
+  });
+  if (!dispatched) stream->Reject(ToGrpcStatus(AdmissionPoolFull(), *context));
+  return stream.get();
+}
+
+void QuantizerService::AdmitQuantize(grpc::CallbackServerContext& context, JobEventStream& stream,
+                                     const Principal& principal, RawRequest& raw) {
+  absl::StatusOr<std::shared_ptr<Job>> job = QuantizeJob(context, principal, raw);
+  if (!job.ok()) {
+    stream.Reject(ToGrpcStatus(job.status(), context));
+    return;
+  }
+  // A call that is already over (its deadline passed during admission) cancels the job here.
+  stream.Attach(*std::move(job), /*from_event=*/0);
+}
+
+absl::StatusOr<std::shared_ptr<Job>> QuantizerService::QuantizeJob(
+    grpc::CallbackServerContext& context, const Principal& principal, RawRequest& raw) {
+  if (context.IsCancelled()) return CancelledBeforeAdmission();
+  absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
+      ParseWithinBudget<v1::QuantizeRequest>(raw, memory_);
+  if (!parsed.ok()) {
+    if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
+    return parsed.status();
+  }
+  if (!parsed->message.request_id().empty()) {
+    metrics_.RecordRejectedInvalid();
+    return absl::InvalidArgumentError(
+        "request_id is for SubmitJob: a Quantize job ends with its call, so a retried Quantize "
+        "is a new job");
+  }
+  return AdmitJob(context, principal, parsed->message, raw.size, /*bound_to_call=*/true);
+}
+
+grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContext* context,
+                                                      const grpc::ByteBuffer* request,
+                                                      grpc::ByteBuffer* response) {
+  auto* call = new UnaryCall(context, response, &memory_);
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
+  if (!principal.ok()) {
+    call->Fail(principal.status());
+    return call;
+  }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
+  if (!raw.ok()) {
+    call->Fail(raw.status());
+    return call;
+  }
+  const int64_t size = raw->size;
+  const bool dispatched =
+      Dispatch(size, [this, call, principal = *std::move(principal),
+                      raw = *std::move(raw)]() mutable { AdmitSubmitJob(*call, principal, raw); });
+  if (!dispatched) call->Fail(AdmissionPoolFull());
+  return call;
+}
+
+void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job) {
+  if (job.ok()) {
+    call.Answer((*job)->ToProto(v1::FULL));
+  } else {
+    call.Fail(job.status());
+  }
+}
+
+void QuantizerService::AdmitSubmitJob(UnaryCall& call, const Principal& principal,
+                                      RawRequest& raw) {
+  if (call.context().IsCancelled()) return call.Fail(CancelledBeforeAdmission());
+  absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
+      ParseWithinBudget<v1::QuantizeRequest>(raw, memory_);
+  if (!parsed.ok()) {
+    if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
+    return call.Fail(parsed.status());
+  }
+  v1::QuantizeRequest& request = parsed->message;
+  if (request.request_id().empty()) {
+    return AnswerJob(call, AdmitJob(call.context(), principal, request, raw.size, false));
+  }
+  if (absl::Status valid = ValidateRequestId(request.request_id()); !valid.ok()) {
+    metrics_.RecordRejectedInvalid();
+    return call.Fail(valid);
+  }
+  // The fingerprint covers everything but the id itself.
+  std::string request_id = std::move(*request.mutable_request_id());
+  request.clear_request_id();
+  std::string fingerprint = RequestFingerprint(request);
+  request.set_request_id(request_id);
+  RequestIds::Decision decision = request_ids_.Begin(
+      principal.name, request_id, std::move(fingerprint),
+      [waiting = &call](RequestIds::Outcome outcome) { AnswerJob(*waiting, outcome); });
+  if (decision.outcome.has_value()) return AnswerJob(call, *decision.outcome);
+  if (!decision.ticket.has_value()) return;  // the first call with this id answers this one too
+  const absl::StatusOr<std::shared_ptr<Job>> job =
+      AdmitJob(call.context(), principal, request, raw.size, /*bound_to_call=*/false);
+  request_ids_.Complete(*decision.ticket, job);
+  AnswerJob(call, job);
+}
+
+grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerContext* context,
+                                                       const grpc::ByteBuffer* request,
+                                                       grpc::ByteBuffer* response) {
+  auto* call = new UnaryCall(context, response, &memory_);
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
+  if (!principal.ok()) {
+    call->Fail(principal.status());
+    return call;
+  }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
+  if (!raw.ok()) {
+    call->Fail(raw.status());
+    return call;
+  }
+  const int64_t size = raw->size;
+  const bool dispatched =
+      Dispatch(size, [this, call, principal = *std::move(principal),
+                      raw = *std::move(raw)]() mutable { AdmitCreateMesh(*call, principal, raw); });
+  if (!dispatched) call->Fail(AdmissionPoolFull());
+  return call;
+}
+
+void QuantizerService::AdmitCreateMesh(UnaryCall& call, const Principal& principal,
+                                       RawRequest& raw) {
+  if (call.context().IsCancelled()) return call.Fail(CancelledBeforeAdmission());
+  absl::StatusOr<ParsedRequest<v1::CreateMeshRequest>> parsed =
+      ParseWithinBudget<v1::CreateMeshRequest>(raw, memory_);
+  if (!parsed.ok()) return call.Fail(parsed.status());
+  absl::StatusOr<AdmittedMesh> mesh = StoreableMesh(parsed->message.mesh(), raw.size);
+  if (!mesh.ok()) {
+    if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
+    return call.Fail(mesh.status());
+  }
+  std::shared_ptr<const StoredMesh> stored =
+      meshes_.Add(*std::move(mesh), principal.name, absl::Now());
+  const v1::Mesh answer = MeshToProto(*stored);
+  spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),
+               QuotedLogValue(answer.owner()), QuotedLogValue(answer.display_name()),
+               answer.mesh_stats().arcs());
+  call.Answer(answer);
+}
+
+absl::StatusOr<AdmittedMesh> QuantizerService::StoreableMesh(const v1::TMesh& proto,
+                                                             int64_t request_bytes) {
+  if (absl::Status size = CheckMeshSize(proto, limits_.max_arcs); !size.ok()) return size;
+  absl::StatusOr<MemoryReservation> memory =
+      memory_.Reserve(MemoryUse::kStoredMeshes, MeshBytes(request_bytes), "the mesh");
+  if (!memory.ok()) return memory.status();
+  return AdmitMesh(proto, limits_.max_arcs, *std::move(memory));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lookups
+
+template <typename Request, typename Handler>
+grpc::ServerUnaryReactor* QuantizerService::Lookup(grpc::CallbackServerContext* context,
+                                                   const grpc::ByteBuffer* request,
+                                                   grpc::ByteBuffer* response, Handler&& handler) {
+  auto* call = new UnaryCall(context, response, &memory_);
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
+  if (!principal.ok()) {
+    call->Fail(principal.status());
+    return call;
+  }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
+  if (!raw.ok()) {
+    call->Fail(raw.status());
+    return call;
+  }
+  absl::StatusOr<ParsedRequest<Request>> parsed = ParseWithinBudget<Request>(*raw, memory_);
+  if (!parsed.ok()) {
+    call->Fail(parsed.status());
+    return call;
+  }
+  auto answer = std::forward<Handler>(handler)(parsed->message, *principal);
+  if (answer.ok()) {
+    call->Answer(*answer);
+  } else {
+    call->Fail(answer.status());
+  }
+  return call;
+}
+
+absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string& name,
+                                                               const Principal& principal) {
   absl::StatusOr<std::string> id = ParseResourceName(kJobCollection, name);
   if (!id.ok()) return id.status();
   std::shared_ptr<Job> job = scheduler_.Find(*id);
-  if (job == nullptr) {
+  if (job == nullptr || !principal.CanAccess(job->owner())) {
     return absl::NotFoundError(
         absl::StrCat("job ", name, " not found: never submitted, or ended longer ago than the ",
                      "server keeps finished jobs"));
@@ -93,65 +309,44 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string
   return job;
 }
 
-absl::StatusOr<std::shared_ptr<const StoredMesh>> QuantizerService::FindMesh(
-    const std::string& name) {
-  absl::StatusOr<std::string> id = ParseResourceName(kMeshCollection, name);
-  if (!id.ok()) return id.status();
-  std::shared_ptr<const StoredMesh> stored = meshes_.Find(*id);
-  if (stored == nullptr) return absl::NotFoundError(absl::StrCat("mesh ", name, " not found"));
-  return stored;
-}
-
-grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
-    grpc::CallbackServerContext* context, const grpc::ByteBuffer* raw_request) {
-  if (grpc::Status auth = authenticator_.Check(*context); !auth.ok()) {
-    return new RejectedStream(std::move(auth));
-  }
-  absl::StatusOr<v1::QuantizeRequest> request = ParseRequest<v1::QuantizeRequest>(*raw_request);
-  if (!request.ok()) return new RejectedStream(ToGrpcStatus(request.status()));
-  absl::StatusOr<std::shared_ptr<Job>> job = Admit(*context, *request, /*bound_to_call=*/true);
-  if (!job.ok()) return new RejectedStream(ToGrpcStatus(job.status()));
-  // A call that is already over (its deadline passed during validation) still gets OnCancel,
-  // which cancels the job.
-  return JobEventStream::Start(*std::move(job), /*from_event=*/0, &scheduler_);
-}
-
 grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::WatchJob(
-    grpc::CallbackServerContext* context, const grpc::ByteBuffer* raw_request) {
-  if (grpc::Status auth = authenticator_.Check(*context); !auth.ok()) {
-    return new RejectedStream(std::move(auth));
+    grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
+  std::shared_ptr<JobEventStream> stream =
+      JobEventStream::Create(/*cancel_job_with_call=*/nullptr, &memory_.budget());
+  absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> watched = WatchedJob(*context, request);
+  if (!watched.ok()) {
+    stream->Reject(ToGrpcStatus(watched.status(), *context));
+  } else {
+    stream->Attach(std::move(watched->first), watched->second);
   }
-  absl::StatusOr<v1::WatchJobRequest> request = ParseRequest<v1::WatchJobRequest>(*raw_request);
-  if (!request.ok()) return new RejectedStream(ToGrpcStatus(request.status()));
-  if (request->from_event() < 0) {
-    return new RejectedStream(
-        grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                     absl::StrCat("from_event ", request->from_event(), " is negative")));
-  }
-  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request->name());
-  if (!job.ok()) return new RejectedStream(ToGrpcStatus(job.status()));
-  return JobEventStream::Start(*std::move(job), request->from_event(),
-                               /*cancel_job_with_call=*/nullptr);
+  return stream.get();
 }
 
-grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContext* context,
-                                                      const grpc::ByteBuffer* request,
-                                                      grpc::ByteBuffer* response) {
-  return Unary<v1::QuantizeRequest>(
-      context, request, response,
-      [&](const v1::QuantizeRequest& submit) -> absl::StatusOr<v1::Job> {
-        absl::StatusOr<std::shared_ptr<Job>> job = Admit(*context, submit, /*bound_to_call=*/false);
-        if (!job.ok()) return job.status();
-        return (*job)->ToProto(v1::FULL);
-      });
+absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> QuantizerService::WatchedJob(
+    grpc::CallbackServerContext& context, const grpc::ByteBuffer* request) {
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(context);
+  if (!principal.ok()) return principal.status();
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
+  if (!raw.ok()) return raw.status();
+  absl::StatusOr<ParsedRequest<v1::WatchJobRequest>> parsed =
+      ParseWithinBudget<v1::WatchJobRequest>(*raw, memory_);
+  if (!parsed.ok()) return parsed.status();
+  const int64_t from_event = parsed->message.from_event();
+  if (from_event < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("from_event ", from_event, " is negative"));
+  }
+  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(parsed->message.name(), *principal);
+  if (!job.ok()) return job.status();
+  return std::make_pair(*std::move(job), from_event);
 }
 
 grpc::ServerUnaryReactor* QuantizerService::GetJob(grpc::CallbackServerContext* context,
                                                    const grpc::ByteBuffer* request,
                                                    grpc::ByteBuffer* response) {
-  return Unary<v1::GetJobRequest>(
-      context, request, response, [&](const v1::GetJobRequest& get) -> absl::StatusOr<v1::Job> {
-        absl::StatusOr<std::shared_ptr<Job>> job = FindJob(get.name());
+  return Lookup<v1::GetJobRequest>(
+      context, request, response,
+      [&](const v1::GetJobRequest& get, const Principal& principal) -> absl::StatusOr<v1::Job> {
+        absl::StatusOr<std::shared_ptr<Job>> job = FindJob(get.name(), principal);
         if (!job.ok()) return job.status();
         return (*job)->ToProto(get.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::FULL : get.view());
       });
@@ -160,15 +355,30 @@ grpc::ServerUnaryReactor* QuantizerService::GetJob(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* QuantizerService::ListJobs(grpc::CallbackServerContext* context,
                                                      const grpc::ByteBuffer* request,
                                                      grpc::ByteBuffer* response) {
-  return Unary<v1::ListJobsRequest>(
+  return Lookup<v1::ListJobsRequest>(
       context, request, response,
-      [&](const v1::ListJobsRequest& list) -> absl::StatusOr<v1::ListJobsResponse> {
-        absl::StatusOr<JobStore::Page> page =
-            scheduler_.List(list.page_size(), list.page_token(), list.state());
+      [&](const v1::ListJobsRequest& list,
+          const Principal& principal) -> absl::StatusOr<v1::ListJobsResponse> {
+        JobStore::Query query;
+        query.page_size = list.page_size();
+        query.page_token = list.page_token();
+        query.state = list.state();
+        query.visible = [&principal](const Job& job) { return principal.CanAccess(job.owner()); };
+        absl::StatusOr<JobStore::Page> page = scheduler_.List(query);
         if (!page.ok()) return page.status();
         const v1::JobView view = list.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::BASIC : list.view();
         v1::ListJobsResponse listed;
-        for (const std::shared_ptr<Job>& job : page->jobs) *listed.add_jobs() = job->ToProto(view);
+        int64_t bytes = 0;
+        for (const JobStore::Listed& entry : page->jobs) {
+          v1::Job job = entry.job->ToProto(view);
+          const int64_t size = static_cast<int64_t>(job.ByteSizeLong());
+          if (listed.jobs_size() > 0 && bytes + size > kMaxListPageBytes) {
+            listed.set_next_page_token(entry.token);  // the page is full: resume at this job
+            return listed;
+          }
+          bytes += size;
+          *listed.add_jobs() = std::move(job);
+        }
         listed.set_next_page_token(page->next_page_token);
         return listed;
       });
@@ -177,41 +387,25 @@ grpc::ServerUnaryReactor* QuantizerService::ListJobs(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* QuantizerService::CancelJob(grpc::CallbackServerContext* context,
                                                       const grpc::ByteBuffer* request,
                                                       grpc::ByteBuffer* response) {
-  return Unary<v1::CancelJobRequest>(
-      context, request, response,
-      [&](const v1::CancelJobRequest& cancel) -> absl::StatusOr<v1::Job> {
-        absl::StatusOr<std::shared_ptr<Job>> job = FindJob(cancel.name());
-        if (!job.ok()) return job.status();
-        scheduler_.Cancel(**job);
-        return (*job)->ToProto(v1::FULL);
-      });
-}
-
-grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerContext* context,
-                                                       const grpc::ByteBuffer* request,
-                                                       grpc::ByteBuffer* response) {
-  return Unary<v1::CreateMeshRequest>(
-      context, request, response,
-      [&](const v1::CreateMeshRequest& create) -> absl::StatusOr<v1::Mesh> {
-        absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(create.mesh(), limits_.max_arcs);
-        if (!admitted.ok()) {
-          metrics_.RecordRejectedInvalid();
-          return admitted.status();
-        }
-        std::shared_ptr<const StoredMesh> stored = meshes_.Add(*std::move(admitted), absl::Now());
-        v1::Mesh mesh = MeshToProto(*stored);
-        spdlog::info("event=mesh_created mesh={} display_name={} arcs={}", mesh.name(),
-                     QuotedLogValue(mesh.display_name()), mesh.mesh_stats().arcs());
-        return mesh;
-      });
+  return Lookup<v1::CancelJobRequest>(context, request, response,
+                                      [&](const v1::CancelJobRequest& cancel,
+                                          const Principal& principal) -> absl::StatusOr<v1::Job> {
+                                        absl::StatusOr<std::shared_ptr<Job>> job =
+                                            FindJob(cancel.name(), principal);
+                                        if (!job.ok()) return job.status();
+                                        scheduler_.Cancel(**job);
+                                        return (*job)->ToProto(v1::FULL);
+                                      });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::GetMesh(grpc::CallbackServerContext* context,
                                                     const grpc::ByteBuffer* request,
                                                     grpc::ByteBuffer* response) {
-  return Unary<v1::GetMeshRequest>(
-      context, request, response, [&](const v1::GetMeshRequest& get) -> absl::StatusOr<v1::Mesh> {
-        absl::StatusOr<std::shared_ptr<const StoredMesh>> stored = FindMesh(get.name());
+  return Lookup<v1::GetMeshRequest>(
+      context, request, response,
+      [&](const v1::GetMeshRequest& get, const Principal& principal) -> absl::StatusOr<v1::Mesh> {
+        absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
+            FindStoredMesh(get.name(), principal, meshes_);
         if (!stored.ok()) return stored.status();
         return MeshToProto(**stored);
       });
@@ -220,12 +414,14 @@ grpc::ServerUnaryReactor* QuantizerService::GetMesh(grpc::CallbackServerContext*
 grpc::ServerUnaryReactor* QuantizerService::DeleteMesh(grpc::CallbackServerContext* context,
                                                        const grpc::ByteBuffer* request,
                                                        grpc::ByteBuffer* response) {
-  return Unary<v1::DeleteMeshRequest>(
+  return Lookup<v1::DeleteMeshRequest>(
       context, request, response,
-      [&](const v1::DeleteMeshRequest& remove) -> absl::StatusOr<v1::DeleteMeshResponse> {
-        absl::StatusOr<std::string> id = ParseResourceName(kMeshCollection, remove.name());
-        if (!id.ok()) return id.status();
-        if (!meshes_.Remove(*id)) {
+      [&](const v1::DeleteMeshRequest& remove,
+          const Principal& principal) -> absl::StatusOr<v1::DeleteMeshResponse> {
+        absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
+            FindStoredMesh(remove.name(), principal, meshes_);
+        if (!stored.ok()) return stored.status();
+        if (!meshes_.Remove((*stored)->id)) {
           return absl::NotFoundError(absl::StrCat("mesh ", remove.name(), " not found"));
         }
         return v1::DeleteMeshResponse();
@@ -235,9 +431,9 @@ grpc::ServerUnaryReactor* QuantizerService::DeleteMesh(grpc::CallbackServerConte
 grpc::ServerUnaryReactor* QuantizerService::GetServerStats(grpc::CallbackServerContext* context,
                                                            const grpc::ByteBuffer* request,
                                                            grpc::ByteBuffer* response) {
-  return Unary<v1::GetServerStatsRequest>(
+  return Lookup<v1::GetServerStatsRequest>(
       context, request, response,
-      [&](const v1::GetServerStatsRequest&) -> absl::StatusOr<v1::ServerStats> {
+      [&](const v1::GetServerStatsRequest&, const Principal&) -> absl::StatusOr<v1::ServerStats> {
         v1::ServerStats stats;
         metrics_.FillProto(stats);
         scheduler_.FillStats(stats);
@@ -245,6 +441,8 @@ grpc::ServerUnaryReactor* QuantizerService::GetServerStats(grpc::CallbackServerC
         *stats.mutable_uptime() =
             TimeUtil::NanosecondsToDuration(absl::ToInt64Nanoseconds(absl::Now() - start_time_));
         stats.set_shutting_down(!scheduler_.accepting());
+        *stats.mutable_memory() = memory_.budget().ToProto();
+        stats.set_admissions_in_progress(admission_pool_.in_progress());
         return stats;
       });
 }

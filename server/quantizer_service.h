@@ -1,26 +1,41 @@
-// The ispq.v1.Quantizer service on gRPC's callback API: each method checks the bearer token,
-// turns its request into calls on the scheduler and the mesh store, and answers. No method
-// blocks a gRPC thread on a solve: unary methods only validate and look things up, and the two
-// streaming methods hand the call to a JobEventStream that the job wakes up.
+// The ispq.v1.Quantizer service on gRPC's callback API: each method authenticates its caller
+// (server/authenticator.h), takes its request within the memory budget (server/request_intake.h),
+// turns it into calls on the scheduler and the mesh store, and answers. No method blocks a gRPC
+// thread on a solve: lookups are answered on gRPC's thread, requests that carry a mesh (Quantize,
+// SubmitJob, CreateMesh) are parsed and validated on the admission pool (server/admission_pool.h)
+// unless they are small, and the two streaming methods hand the call to a JobEventStream that the
+// job wakes up.
+//
+// Jobs and stored meshes are visible only to the principal that created them and to admins;
+// others get NOT_FOUND, as for names that never existed. SubmitJob honours request_id
+// (server/request_ids.h).
 //
 // Methods are registered raw (see server/raw_proto_call.h) so that a request that does not
-// parse is INVALID_ARGUMENT; each raw method parses its request and calls a typed handler.
-// Errors cross into gRPC here and only here.
+// parse is INVALID_ARGUMENT. Errors cross into gRPC here and only here.
 #ifndef ISPQ_SERVER_QUANTIZER_SERVICE_H_
 #define ISPQ_SERVER_QUANTIZER_SERVICE_H_
 
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "absl/status/statusor.h"
 #include "absl/time/time.h"
 #include "grpcpp/support/byte_buffer.h"
 #include "ispq/v1/service.grpc.pb.h"
-#include "server/bearer_token_authenticator.h"
+#include "server/admission_pool.h"
+#include "server/authenticator.h"
+#include "server/job_event_stream.h"
 #include "server/job_scheduler.h"
 #include "server/job_spec.h"
+#include "server/memory_admission.h"
 #include "server/mesh_store.h"
+#include "server/principal.h"
+#include "server/request_ids.h"
+#include "server/request_intake.h"
 #include "server/server_metrics.h"
+#include "server/unary_call.h"
 
 namespace ispq::server {
 
@@ -35,11 +50,25 @@ using RawQuantizerService = v1::Quantizer::WithRawCallbackMethod_Quantize<
                             v1::Quantizer::WithRawCallbackMethod_GetServerStats<
                                 v1::Quantizer::Service>>>>>>>>>>;
 
+// What the service works with; everything must outlive the gRPC server that serves it.
+struct ServiceParts {
+  JobScheduler& scheduler;
+  MeshStore& meshes;
+  ServerMetrics& metrics;
+  MemoryAdmission& memory;
+  const Authenticator& authenticator;
+};
+
+struct AdmissionConfig {
+  int threads = 1;
+  int max_waiting = 64;  // requests waiting for an admission thread; beyond, RESOURCE_EXHAUSTED
+};
+
 class QuantizerService final : public RawQuantizerService {
  public:
-  // Everything referenced must outlive the gRPC server that serves this service.
-  QuantizerService(JobScheduler& scheduler, MeshStore& meshes, ServerMetrics& metrics,
-                   const BearerTokenAuthenticator& authenticator, JobLimits limits);
+  QuantizerService(ServiceParts parts, JobLimits limits, AdmissionConfig admission);
+  // Runs the admissions still waiting (they find the scheduler closed) and joins the pool.
+  ~QuantizerService() override = default;
 
   grpc::ServerWriteReactor<grpc::ByteBuffer>* Quantize(grpc::CallbackServerContext* context,
                                                        const grpc::ByteBuffer* request) override;
@@ -70,25 +99,54 @@ class QuantizerService final : public RawQuantizerService {
                                            const grpc::ByteBuffer* request,
                                            grpc::ByteBuffer* response) override;
 
+  // Requests received and not yet admitted or refused, and whether more would be refused.
+  int admissions_in_progress() const { return admission_pool_.in_progress(); }
+  bool admissions_full() const { return admission_pool_.full(); }
+
  private:
-  // Validates and queues a job; on a full queue also sets the retry trailer on `context`.
-  absl::StatusOr<std::shared_ptr<Job>> Admit(grpc::CallbackServerContext& context,
-                                             const v1::QuantizeRequest& request,
-                                             bool bound_to_call);
-  absl::StatusOr<std::shared_ptr<Job>> FindJob(const std::string& name);
-  absl::StatusOr<std::shared_ptr<const StoredMesh>> FindMesh(const std::string& name);
-  // Answers a unary method: token check, parse, `handler`, serialize.
+  // ---- Requests that carry a mesh, run by Dispatch ----
+  void AdmitQuantize(grpc::CallbackServerContext& context, JobEventStream& stream,
+                     const Principal& principal, RawRequest& raw);
+  absl::StatusOr<std::shared_ptr<Job>> QuantizeJob(grpc::CallbackServerContext& context,
+                                                   const Principal& principal, RawRequest& raw);
+  void AdmitSubmitJob(UnaryCall& call, const Principal& principal, RawRequest& raw);
+  void AdmitCreateMesh(UnaryCall& call, const Principal& principal, RawRequest& raw);
+  // The mesh of a CreateMesh request, validated, with memory reserved in the store's account.
+  absl::StatusOr<AdmittedMesh> StoreableMesh(const v1::TMesh& proto, int64_t request_bytes);
+  // Runs `admit` at once for a small request, else on the admission pool; false if it is full.
+  bool Dispatch(int64_t request_bytes, AdmissionPool::Task admit);
+  absl::Status AdmissionPoolFull() const;
+
+  // Validates the request into a job and queues it.
+  absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const grpc::CallbackServerContext& context,
+                                                const Principal& principal,
+                                                const v1::QuantizeRequest& request,
+                                                int64_t request_bytes, bool bound_to_call);
+  // Answers a SubmitJob with its job or error.
+  static void AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job);
+
+  // A lookup on gRPC's thread: authenticate, take and parse `Request`, answer with
+  // `handler(request, principal)` (-> StatusOr<Response>).
   template <typename Request, typename Handler>
-  grpc::ServerUnaryReactor* Unary(grpc::CallbackServerContext* context,
-                                  const grpc::ByteBuffer* request, grpc::ByteBuffer* response,
-                                  Handler&& handler);
+  grpc::ServerUnaryReactor* Lookup(grpc::CallbackServerContext* context,
+                                   const grpc::ByteBuffer* request, grpc::ByteBuffer* response,
+                                   Handler&& handler);
+
+  // The job a WatchJob request names, and the event to start from.
+  absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> WatchedJob(
+      grpc::CallbackServerContext& context, const grpc::ByteBuffer* request);
+  // The job `name` if `principal` may see it, else NOT_FOUND (as if it did not exist).
+  absl::StatusOr<std::shared_ptr<Job>> FindJob(const std::string& name, const Principal& principal);
 
   JobScheduler& scheduler_;
   MeshStore& meshes_;
   ServerMetrics& metrics_;
-  const BearerTokenAuthenticator& authenticator_;
+  MemoryAdmission& memory_;
+  const Authenticator& authenticator_;
   const JobLimits limits_;
   const absl::Time start_time_;
+  RequestIds request_ids_;
+  AdmissionPool admission_pool_;  // last: destroyed (drained and joined) first
 };
 
 }  // namespace ispq::server

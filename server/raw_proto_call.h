@@ -8,16 +8,13 @@
 #define ISPQ_SERVER_RAW_PROTO_CALL_H_
 
 #include <string>
-#include <utility>
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "google/protobuf/message_lite.h"
 #include "grpcpp/impl/codegen/proto_utils.h"
-#include "grpcpp/server_context.h"
 #include "grpcpp/support/byte_buffer.h"
-#include "grpcpp/support/server_callback.h"
 #include "server/grpc_status.h"
 
 namespace ispq::server {
@@ -36,27 +33,6 @@ absl::StatusOr<Message> ParseRequest(const grpc::ByteBuffer& raw) {
 
 // Serializes `message` into `raw`, replacing its contents; INTERNAL if protobuf cannot.
 grpc::Status SerializeMessage(const google::protobuf::MessageLite& message, grpc::ByteBuffer& raw);
-
-// Answers a unary call: parses the request, runs `handler` (Request -> StatusOr<Response>) and
-// finishes with its response or status.
-template <typename Request, typename Handler>
-grpc::ServerUnaryReactor* AnswerUnary(grpc::CallbackServerContext* context,
-                                      const grpc::ByteBuffer& raw_request,
-                                      grpc::ByteBuffer* raw_response, Handler&& handler) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::StatusOr<Request> request = ParseRequest<Request>(raw_request);
-  if (!request.ok()) {
-    reactor->Finish(ToGrpcStatus(request.status()));
-    return reactor;
-  }
-  auto response = std::forward<Handler>(handler)(*request);
-  if (!response.ok()) {
-    reactor->Finish(ToGrpcStatus(response.status()));
-    return reactor;
-  }
-  reactor->Finish(SerializeMessage(*response, *raw_response));
-  return reactor;
-}
 
 }  // namespace ispq::server
 

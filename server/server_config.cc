@@ -5,6 +5,9 @@
 namespace ispq::server {
 namespace {
 
+// Below this, the server could not even take one request of the default maximum size.
+constexpr int64_t kMinMemoryBytes = 64 << 20;
+
 absl::Status AtLeast(const char* flag, int64_t value, int64_t minimum) {
   if (value >= minimum) return absl::OkStatus();
   return absl::InvalidArgumentError(
@@ -22,6 +25,9 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
            AtLeast("max_queued_jobs", config.max_queued_jobs, 1),
            AtLeast("retain_finished_jobs", config.retain_finished_jobs, 0),
            AtLeast("max_stored_meshes", config.max_stored_meshes, 1),
+           AtLeast("max_memory_bytes", config.max_memory_bytes, kMinMemoryBytes),
+           AtLeast("admission_threads", config.admission_threads, 1),
+           AtLeast("max_waiting_admissions", config.max_waiting_admissions, 1),
        }) {
     if (!status.ok()) return status;
   }

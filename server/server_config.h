@@ -3,10 +3,13 @@
 #ifndef ISPQ_SERVER_SERVER_CONFIG_H_
 #define ISPQ_SERVER_SERVER_CONFIG_H_
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/time/time.h"
+#include "server/principal_tokens.h"
 
 namespace ispq::server {
 
@@ -30,9 +33,13 @@ struct ServerConfig {
   int retain_finished_jobs = 1000;
   absl::Duration retain_finished_time = absl::Hours(1);
   int max_stored_meshes = 100;
+  int64_t max_memory_bytes = int64_t{1} << 30;  // the memory budget (server/memory_budget.h)
+  int admission_threads = 1;                    // server/admission_pool.h
+  int max_waiting_admissions = 64;
   absl::Duration shutdown_grace = absl::Seconds(25);
   TlsFiles tls;
-  std::string auth_token;  // empty: no bearer-token check
+  std::vector<PrincipalToken> auth_tokens;    // empty: no bearer-token check
+  std::vector<std::string> admin_principals;  // server/authenticator.h
 };
 
 // INVALID_ARGUMENT naming the flag for values that cannot work.

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "core/tmesh_file.h"
+#include "core/read_file.h"
 
 namespace ispq::server {
 namespace {

@@ -1,8 +1,9 @@
 // ispq-server: serves ispq.v1.Quantizer (see server/quantizer_server.h for the threading model
 // and the shutdown sequence). Logs one structured line per event to stderr.
 //
-//   ispq-server [--listen 127.0.0.1:50051] [--workers N] [limits] [--tls_cert F --tls_key F
-//               [--tls_client_ca F]] [--auth_token_file F]
+//   ispq-server [--listen 127.0.0.1:50051] [--workers N] [limits] [--max_memory_bytes SIZE]
+//               [--tls_cert F --tls_key F [--tls_client_ca F]]
+//               [--auth_token_file F | --auth_tokens_file F] [--admin_principals A,B]
 //
 // Stops gracefully on SIGTERM or SIGINT and exits 0; exits 1 if it cannot start.
 #include <pthread.h>
@@ -15,6 +16,8 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
@@ -23,7 +26,9 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
-#include "core/tmesh_file.h"
+#include "core/read_file.h"
+#include "server/memory_limit.h"
+#include "server/principal_tokens.h"
 #include "server/quantizer_server.h"
 #include "server/server_config.h"
 #include "spdlog/sinks/stdout_sinks.h"
@@ -44,6 +49,14 @@ ABSL_FLAG(int, retain_finished_jobs, 1000, "finished jobs kept for GetJob/WatchJ
 ABSL_FLAG(double, retain_seconds, 3600, "how long a finished job is kept");
 ABSL_FLAG(int, max_stored_meshes, 100,
           "meshes kept from CreateMesh; beyond, the least recently used is evicted");
+ABSL_FLAG(std::string, max_memory_bytes, "",
+          "memory budget for what the server holds for clients (requests being admitted, queued "
+          "and running jobs, stored meshes, retained results), e.g. 512MiB or 2GiB; beyond it, "
+          "requests get RESOURCE_EXHAUSTED after retained results and stored meshes are evicted. "
+          "Default: 3/4 of the cgroup memory limit if there is one, else 1/2 of physical memory");
+ABSL_FLAG(int, admission_threads, 0,
+          "threads that parse and validate large requests off gRPC's threads; 0: half the "
+          "hardware threads, at least 1");
 ABSL_FLAG(double, shutdown_grace_seconds, 25,
           "time from SIGTERM to exit: running jobs may finish until a quarter of it (at most 5 s) "
           "is left, then they are interrupted and their results delivered");
@@ -55,14 +68,23 @@ ABSL_FLAG(std::string, auth_token, "",
           "if set, every Quantizer call needs metadata 'authorization: Bearer <token>' (visible "
           "in the process list: prefer --auth_token_file)");
 ABSL_FLAG(std::string, auth_token_file, "",
-          "file holding the bearer token (e.g. a mounted secret)");
+          "file holding the bearer token (e.g. a mounted secret); its principal is 'default'");
+ABSL_FLAG(std::string, auth_tokens_file, "",
+          "file of 'PRINCIPAL TOKEN' lines: several bearer tokens, each standing for a principal "
+          "that owns the jobs and meshes it creates");
+ABSL_FLAG(std::vector<std::string>, admin_principals, {},
+          "principals (token principals or client-certificate subjects) that see and act on "
+          "every job and mesh, comma-separated");
 ABSL_FLAG(std::string, port_file, "",
           "after binding, write the port to this file (for scripts that listen on port 0)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error or off");
 
 namespace {
 
-absl::StatusOr<std::string> AuthToken() {
+constexpr size_t kMaxTokenFileBytes = 1 << 20;
+
+// The single token of --auth_token or --auth_token_file, if any.
+absl::StatusOr<std::string> SingleAuthToken() {
   const std::string file = absl::GetFlag(FLAGS_auth_token_file);
   if (file.empty()) return absl::GetFlag(FLAGS_auth_token);
   if (!absl::GetFlag(FLAGS_auth_token).empty()) {
@@ -73,6 +95,40 @@ absl::StatusOr<std::string> AuthToken() {
   std::string trimmed(absl::StripAsciiWhitespace(*token));
   if (trimmed.empty()) return absl::InvalidArgumentError(absl::StrCat(file, " is empty"));
   return trimmed;
+}
+
+absl::StatusOr<std::vector<ispq::server::PrincipalToken>> AuthTokens() {
+  absl::StatusOr<std::string> single = SingleAuthToken();
+  if (!single.ok()) return single.status();
+  const std::string file = absl::GetFlag(FLAGS_auth_tokens_file);
+  if (file.empty()) {
+    if (single->empty()) return std::vector<ispq::server::PrincipalToken>();
+    return std::vector<ispq::server::PrincipalToken>{
+        {ispq::server::kSingleTokenPrincipal, *std::move(single)}};
+  }
+  if (!single->empty()) {
+    return absl::InvalidArgumentError(
+        "--auth_tokens_file excludes --auth_token and --auth_token_file");
+  }
+  absl::StatusOr<std::string> contents = ispq::ReadFileToString(file, kMaxTokenFileBytes);
+  if (!contents.ok()) return contents.status();
+  absl::StatusOr<std::vector<ispq::server::PrincipalToken>> tokens =
+      ispq::server::ParsePrincipalTokens(*contents);
+  if (!tokens.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat(file, ": ", tokens.status().message()));
+  }
+  return tokens;
+}
+
+absl::StatusOr<int64_t> MaxMemoryBytes() {
+  const std::string flag = absl::GetFlag(FLAGS_max_memory_bytes);
+  if (flag.empty()) return ispq::server::DefaultMemoryBudget();
+  absl::StatusOr<int64_t> bytes = ispq::server::ParseByteSize(flag);
+  if (!bytes.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--max_memory_bytes: ", bytes.status().message()));
+  }
+  return bytes;
 }
 
 absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
@@ -88,13 +144,22 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   config.retain_finished_jobs = absl::GetFlag(FLAGS_retain_finished_jobs);
   config.retain_finished_time = absl::Seconds(absl::GetFlag(FLAGS_retain_seconds));
   config.max_stored_meshes = absl::GetFlag(FLAGS_max_stored_meshes);
+  absl::StatusOr<int64_t> memory = MaxMemoryBytes();
+  if (!memory.ok()) return memory.status();
+  config.max_memory_bytes = *memory;
+  const int admission_threads = absl::GetFlag(FLAGS_admission_threads);
+  if (admission_threads < 0) return absl::InvalidArgumentError("--admission_threads is negative");
+  config.admission_threads = admission_threads > 0
+                                 ? admission_threads
+                                 : std::max(1u, std::thread::hardware_concurrency() / 2);
   config.shutdown_grace = absl::Seconds(absl::GetFlag(FLAGS_shutdown_grace_seconds));
   config.tls.cert = absl::GetFlag(FLAGS_tls_cert);
   config.tls.key = absl::GetFlag(FLAGS_tls_key);
   config.tls.client_ca = absl::GetFlag(FLAGS_tls_client_ca);
-  absl::StatusOr<std::string> token = AuthToken();
-  if (!token.ok()) return token.status();
-  config.auth_token = *token;
+  absl::StatusOr<std::vector<ispq::server::PrincipalToken>> tokens = AuthTokens();
+  if (!tokens.ok()) return tokens.status();
+  config.auth_tokens = *std::move(tokens);
+  config.admin_principals = absl::GetFlag(FLAGS_admin_principals);
   return config;
 }
 

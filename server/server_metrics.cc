@@ -36,6 +36,9 @@ void ServerMetrics::FillProto(v1::ServerStats& stats) const {
   stats.set_accepted_total(accepted_.load(std::memory_order_relaxed));
   stats.set_rejected_queue_full_total(rejected_queue_full_.load(std::memory_order_relaxed));
   stats.set_rejected_invalid_total(rejected_invalid_.load(std::memory_order_relaxed));
+  stats.set_rejected_memory_total(rejected_memory_.load(std::memory_order_relaxed));
+  stats.set_evicted_results_total(evicted_results_.load(std::memory_order_relaxed));
+  stats.set_evicted_meshes_total(evicted_meshes_.load(std::memory_order_relaxed));
   v1::JobCounts* finished = stats.mutable_finished_total();
   finished->set_succeeded(succeeded_.load(std::memory_order_relaxed));
   finished->set_failed(failed_.load(std::memory_order_relaxed));

@@ -3,6 +3,8 @@
 #include <memory>
 
 #include "server/job_runner.h"
+#include "server/memory_release.h"
+#include "server/thread_priority.h"
 
 namespace ispq::server {
 
@@ -17,10 +19,12 @@ WorkerPool::~WorkerPool() {
 }
 
 void WorkerPool::Work() {
+  LowerCurrentThreadPriority();
   while (std::shared_ptr<Job> job = queue_.Pop()) {
     RunJob(*job, metrics_);
     job.reset();  // drop the worker's reference before the queue counts the job as done
     queue_.MarkDone();
+    ReleaseFreedMemory();  // what the solve freed, before the next job fragments it further
   }
 }
 

@@ -141,7 +141,7 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
 // Greedy descent (Alg. 1, inner loop; Alg. 2 per root)
 
 absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase phase) {
-  ScopedSeconds timer(&stats_.greedy_seconds);
+  ScopedCpuSeconds timer(&stats_.greedy_seconds);
   queue_.Reset();
   const double skip_limit =
       std::max(kSkipFraction * quantization_.num_bundles(), double{1} * kMinSkip);
@@ -239,7 +239,7 @@ void IntegerSheetPump::Apply(const SheetStep& step) {
 // Separating updates (Alg. 3 and App. B)
 
 absl::StatusOr<bool> IntegerSheetPump::SeparatingUpdate() {
-  ScopedSeconds timer(&stats_.separating_update_seconds);
+  ScopedCpuSeconds timer(&stats_.separating_update_seconds);
   bool changed = false;
   // One solve per subproblem satisfies all its rows at once; a second sweep only runs when a
   // scaled sheet was rejected somewhere and a fallback mode took over.
@@ -299,7 +299,7 @@ absl::StatusOr<bool> IntegerSheetPump::FailsafeSubproblem(int32_t id) {
 int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
   std::vector<SeparationViolation> violations;
   {
-    ScopedSeconds timer(&stats_.separation_search_seconds);
+    ScopedCpuSeconds timer(&stats_.separation_search_seconds);
     quantization_.ArcValues(&arc_values_);
     violations = separation_.FindFirstViolations(arc_values_);
   }

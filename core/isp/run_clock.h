@@ -1,8 +1,11 @@
 // Time within one ISP run: the elapsed time for progress reports, the stop condition (the time
 // limit or the caller's SolveInterrupter, checked between LP solves) and scoped timers that add
-// a phase's duration to its statistic.
+// a phase's CPU time to its statistic. Phases are timed in CPU time of the solving thread, which
+// a busy machine does not inflate; the time limit and the reported elapsed time are wall time.
 #ifndef ISPQ_CORE_ISP_RUN_CLOCK_H_
 #define ISPQ_CORE_ISP_RUN_CLOCK_H_
+
+#include <time.h>
 
 #include <chrono>
 
@@ -52,17 +55,24 @@ class RunClock {
   Termination termination_ = Termination::kConverged;
 };
 
-// Adds the lifetime of the scope to a statistic.
-class ScopedSeconds {
+// CPU seconds the calling thread has used.
+inline double ThreadCpuSeconds() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+// Adds the CPU time the thread spends in the scope to a statistic.
+class ScopedCpuSeconds {
  public:
-  explicit ScopedSeconds(double* sink) : sink_(sink), start_(RunClock::Clock::now()) {}
-  ~ScopedSeconds() { *sink_ += RunClock::SecondsSince(start_); }
-  ScopedSeconds(const ScopedSeconds&) = delete;
-  ScopedSeconds& operator=(const ScopedSeconds&) = delete;
+  explicit ScopedCpuSeconds(double* sink) : sink_(sink), start_(ThreadCpuSeconds()) {}
+  ~ScopedCpuSeconds() { *sink_ += ThreadCpuSeconds() - start_; }
+  ScopedCpuSeconds(const ScopedCpuSeconds&) = delete;
+  ScopedCpuSeconds& operator=(const ScopedCpuSeconds&) = delete;
 
  private:
   double* sink_;
-  RunClock::Clock::time_point start_;
+  double start_;
 };
 
 }  // namespace ispq

@@ -13,8 +13,9 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "core/mesh_stats.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
+#include "core/read_file.h"
 #include "tests/support/test_data.h"
 
 ABSL_FLAG(std::string, out, "load.tsv", "TSV file with one row per T-mesh");

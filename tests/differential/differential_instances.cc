@@ -19,9 +19,9 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/strings/str_join.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantizer.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
 #include "tests/support/consistent_quantizations.h"
 
 ABSL_FLAG(std::string, tmesh, "", "the T-mesh file");
@@ -34,8 +34,8 @@ namespace ispq {
 namespace {
 
 void Emit(const char* kind, double scaling, std::span<const int64_t> q) {
-  std::cout << "{\"kind\":\"" << kind << "\",\"scaling\":" << std::setprecision(17) << scaling << ",\"q\":["
-            << absl::StrJoin(q, ",") << "]}\n";
+  std::cout << "{\"kind\":\"" << kind << "\",\"scaling\":" << std::setprecision(17) << scaling
+            << ",\"q\":[" << absl::StrJoin(q, ",") << "]}\n";
 }
 
 // Keeps a thinned-out sequence of the pump's distinct iterates.

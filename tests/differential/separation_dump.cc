@@ -12,9 +12,10 @@
 #include "absl/flags/parse.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/read_file.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
 

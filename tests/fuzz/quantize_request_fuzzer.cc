@@ -4,8 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "core/quantization_proto.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "ispq/v1/service.pb.h"
 #include "tests/fuzz/bounded_quantize.h"
 

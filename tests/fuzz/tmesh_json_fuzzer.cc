@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string_view>
 
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "tests/fuzz/bounded_quantize.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

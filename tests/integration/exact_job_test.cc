@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "core/quantizer.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"

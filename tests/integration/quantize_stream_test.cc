@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "core/mesh_stats.h"
-#include "core/mesh_stats_proto.h"
-#include "core/quantization_proto.h"
+#include "core/proto/mesh_stats_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "core/quantizer.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/util/message_differencer.h"

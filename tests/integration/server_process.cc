@@ -41,7 +41,11 @@ std::string MakeTemporaryDirectory() {
 
 }  // namespace
 
-std::string ServerBinaryPath() { return ISPQ_SERVER_PATH; }
+std::string ServerBinaryPath() {
+  // Another build of the server (e.g. to measure a change against the previous one).
+  const char* other = getenv("ISPQ_SERVER_BINARY");
+  return other != nullptr && *other != '\0' ? other : ISPQ_SERVER_PATH;
+}
 
 absl::StatusOr<std::unique_ptr<ServerProcess>> ServerProcess::Start(
     const std::string& server_binary, const std::vector<std::string>& flags,

@@ -56,7 +56,7 @@ class ServerProcess {
   bool start_failed_ = false;  // Start reported the log already
 };
 
-// The built server binary (set by CMake).
+// The built server binary (set by CMake), or $ISPQ_SERVER_BINARY if set.
 std::string ServerBinaryPath();
 
 }  // namespace ispq::testing

@@ -9,10 +9,10 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "client/server_connection.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
-#include "core/tmesh_from_proto.h"
 #include "tests/integration/tmesh_copies.h"
 #include "tests/support/test_data.h"
 
@@ -113,6 +113,13 @@ v1::TMesh MeshTakingSeconds(double seconds) {
   const int copies = std::clamp(
       static_cast<int>(std::ceil(seconds / std::max(calibration.seconds, 1e-3))), 1, kMaxCopies);
   return DisjointCopies(calibration.base, copies);
+}
+
+v1::TMesh FemurCopies(int copies) { return DisjointCopies(BaseCalibration().base, copies); }
+
+const v1::TMesh& LargeMesh() {
+  static const v1::TMesh* mesh = new v1::TMesh(FemurCopies(kMaxCopies));
+  return *mesh;
 }
 
 const v1::TMesh& LongRunningMesh() {

@@ -42,6 +42,11 @@ v1::TMesh SharedMeshNamed(const std::string& model);
 v1::TMesh MeshTakingSeconds(double seconds);
 // About a minute: long enough to still run whenever a test acts on it; tests cancel it.
 const v1::TMesh& LongRunningMesh();
+// `copies` disjoint copies of the T-mesh the long-running jobs are made of (a femur shell: 296
+// arcs, about 60 KB each), for requests whose size does not depend on the machine's speed.
+v1::TMesh FemurCopies(int copies);
+// 400 of them: about 24 MB and 120k arcs, a request near the default message limit.
+const v1::TMesh& LargeMesh();
 
 // Whether `result` is valid for `mesh` according to the validator (core/quantization_validator.h)
 // and says so itself; the failure message lists the violations.

@@ -30,10 +30,10 @@
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
 #include "client/quantizer_client.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
-#include "core/tmesh_from_proto.h"
 #include "tests/integration/server_process.h"
 #include "tests/support/test_data.h"
 

@@ -43,34 +43,92 @@ TEST(JobStoreTest, ForgetsFinishedJobsAfterTheRetentionTime) {
   EXPECT_EQ(store.Find("old", kT0 + absl::Minutes(10) + absl::Seconds(1)), nullptr);
 }
 
+JobStore::Query Page(int size, const std::string& token,
+                     v1::JobState state = v1::JOB_STATE_UNSPECIFIED) {
+  JobStore::Query query;
+  query.page_size = size;
+  query.page_token = token;
+  query.state = state;
+  return query;
+}
+
 TEST(JobStoreTest, ListsNewestFirstInPagesAndByState) {
   JobStore store({});
   for (int i = 0; i < 5; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
   Finish(*store.Find("j1", kT0), kT0);
-  absl::StatusOr<JobStore::Page> first = store.List(2, "", v1::JOB_STATE_UNSPECIFIED, kT0);
+  absl::StatusOr<JobStore::Page> first = store.List(Page(2, ""), kT0);
   ASSERT_TRUE(first.ok());
   ASSERT_EQ(first->jobs.size(), 2u);
-  EXPECT_EQ(first->jobs[0]->id(), "j4");
-  EXPECT_EQ(first->jobs[1]->id(), "j3");
-  absl::StatusOr<JobStore::Page> second =
-      store.List(2, first->next_page_token, v1::JOB_STATE_UNSPECIFIED, kT0);
+  EXPECT_EQ(first->jobs[0].job->id(), "j4");
+  EXPECT_EQ(first->jobs[1].job->id(), "j3");
+  absl::StatusOr<JobStore::Page> second = store.List(Page(2, first->next_page_token), kT0);
   ASSERT_TRUE(second.ok());
-  EXPECT_EQ(second->jobs[0]->id(), "j2");
-  EXPECT_EQ(second->jobs[1]->id(), "j1");
-  absl::StatusOr<JobStore::Page> third =
-      store.List(2, second->next_page_token, v1::JOB_STATE_UNSPECIFIED, kT0);
+  EXPECT_EQ(second->jobs[0].job->id(), "j2");
+  EXPECT_EQ(second->jobs[1].job->id(), "j1");
+  absl::StatusOr<JobStore::Page> third = store.List(Page(2, second->next_page_token), kT0);
   ASSERT_TRUE(third.ok());
   ASSERT_EQ(third->jobs.size(), 1u);
   EXPECT_TRUE(third->next_page_token.empty());
 
-  absl::StatusOr<JobStore::Page> failed = store.List(0, "", v1::FAILED, kT0);
+  absl::StatusOr<JobStore::Page> failed = store.List(Page(0, "", v1::FAILED), kT0);
   ASSERT_TRUE(failed.ok());
   ASSERT_EQ(failed->jobs.size(), 1u);
-  EXPECT_EQ(failed->jobs[0]->id(), "j1");
+  EXPECT_EQ(failed->jobs[0].job->id(), "j1");
   EXPECT_EQ(store.CountByState().queued(), 4);
   EXPECT_EQ(store.CountByState().failed(), 1);
-  EXPECT_EQ(store.List(2, "x", v1::JOB_STATE_UNSPECIFIED, kT0).status().code(),
-            absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(store.List(Page(2, "x"), kT0).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
+  JobStore store({});
+  for (int i = 0; i < 4; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+  absl::StatusOr<JobStore::Page> all = store.List(Page(4, ""), kT0);
+  ASSERT_TRUE(all.ok());
+  ASSERT_EQ(all->jobs.size(), 4u);
+  // A caller that cuts a page short (ListJobs does, by bytes) resumes at the first job it left.
+  absl::StatusOr<JobStore::Page> resumed = store.List(Page(4, all->jobs[2].token), kT0);
+  ASSERT_TRUE(resumed.ok());
+  ASSERT_EQ(resumed->jobs.size(), 2u);
+  EXPECT_EQ(resumed->jobs[0].job->id(), "j1");
+  EXPECT_EQ(resumed->jobs[1].job->id(), "j0");
+}
+
+TEST(JobStoreTest, ListsOnlyVisibleJobsAndFillsPagesWithThem) {
+  JobStore store({});
+  for (int i = 0; i < 6; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+  JobStore::Query query = Page(2, "");
+  query.visible = [](const Job& job) {
+    return job.id() == "j0" || job.id() == "j2" || job.id() == "j5";
+  };
+  absl::StatusOr<JobStore::Page> first = store.List(query, kT0);
+  ASSERT_TRUE(first.ok());
+  ASSERT_EQ(first->jobs.size(), 2u);
+  EXPECT_EQ(first->jobs[0].job->id(), "j5");
+  EXPECT_EQ(first->jobs[1].job->id(), "j2");
+  query.page_token = first->next_page_token;
+  absl::StatusOr<JobStore::Page> second = store.List(query, kT0);
+  ASSERT_TRUE(second.ok());
+  ASSERT_EQ(second->jobs.size(), 1u);
+  EXPECT_EQ(second->jobs[0].job->id(), "j0");
+  EXPECT_TRUE(second->next_page_token.empty());
+}
+
+TEST(JobStoreTest, EvictsTheJobThatEndedFirstAndNeverAnActiveOne) {
+  JobStore store({});
+  std::vector<std::shared_ptr<Job>> jobs;
+  for (int i = 0; i < 3; ++i) {
+    jobs.push_back(NewNotchJob(absl::StrCat("j", i), kT0));
+    store.Add(jobs.back(), kT0);
+  }
+  Finish(*jobs[2], kT0 + absl::Seconds(1));  // ended first, though added last
+  Finish(*jobs[0], kT0 + absl::Seconds(2));
+  ASSERT_TRUE(store.EvictOldestFinished());
+  EXPECT_EQ(store.Find("j2", kT0), nullptr);
+  EXPECT_NE(store.Find("j0", kT0), nullptr);
+  ASSERT_TRUE(store.EvictOldestFinished());
+  EXPECT_EQ(store.Find("j0", kT0), nullptr);
+  EXPECT_FALSE(store.EvictOldestFinished()) << "j1 is still queued";
+  EXPECT_NE(store.Find("j1", kT0), nullptr);
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 #include "tests/server/server_test_jobs.h"
 
 #include "core/mesh_stats.h"
-#include "core/mesh_stats_proto.h"
+#include "core/proto/mesh_stats_proto.h"
 #include "tests/support/test_data.h"
 
 namespace ispq::server {

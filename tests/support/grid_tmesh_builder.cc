@@ -135,16 +135,46 @@ class GridTMeshBuilder {
     return rotation_[b].Apply(Vec3{x[0] - origin[0], x[1] - origin[1], x[2] - origin[2]});
   }
 
-  // The block whose open box contains the doubled point q (2 * grid point + offsets), or -1.
-  int BlockAtDoubled(const GridPoint& q) const {
-    for (int b = 0; b < num_blocks(); ++b) {
-      bool inside = true;
-      for (int k = 0; k < 3 && inside; ++k) {
-        inside = 2 * block(b).lo[k] < q[k] && q[k] < 2 * block(b).hi[k];
-      }
-      if (inside) return b;
+  // The block owning grid cell c (the unit cube [c, c + 1]), or -1 outside every block.
+  int BlockOfCell(const GridPoint& c) const {
+    for (int k = 0; k < 3; ++k) {
+      if (c[k] < 0 || c[k] >= cells_[k]) return -1;
     }
-    return -1;
+    return cell_block_[(static_cast<size_t>(c[2]) * cells_[1] + c[1]) * cells_[0] + c[0]];
+  }
+
+  // The block whose open box contains the doubled point q (2 * grid point + offsets), or -1.
+  // Such a block owns the cell containing q, or, where q lies on grid planes, the cell just
+  // below it on those axes.
+  int BlockAtDoubled(const GridPoint& q) const {
+    GridPoint cell;
+    for (int k = 0; k < 3; ++k) cell[k] = q[k] % 2 != 0 ? (q[k] - 1) / 2 : q[k] / 2 - 1;
+    const int b = BlockOfCell(cell);
+    if (b < 0) return -1;
+    for (int k = 0; k < 3; ++k) {
+      if (!(2 * block(b).lo[k] < q[k] && q[k] < 2 * block(b).hi[k])) return -1;
+    }
+    return b;
+  }
+
+  // Fills the cell index; blocks that claim the same cell overlap.
+  absl::Status IndexCells(const std::array<int, 3>& extent) {
+    cells_ = extent;
+    const double count = 1.0 * extent[0] * extent[1] * extent[2];
+    if (count > 2e8) return Invalid("the grid has ", count, " cells, more than 2e8");
+    cell_block_.assign(static_cast<size_t>(count), -1);
+    for (int b = 0; b < num_blocks(); ++b) {
+      for (int z = block(b).lo[2]; z < block(b).hi[2]; ++z) {
+        for (int y = block(b).lo[1]; y < block(b).hi[1]; ++y) {
+          for (int x = block(b).lo[0]; x < block(b).hi[0]; ++x) {
+            int& owner = cell_block_[(static_cast<size_t>(z) * cells_[1] + y) * cells_[0] + x];
+            if (owner >= 0) return Invalid("blocks ", owner, " and ", b, " overlap");
+            owner = b;
+          }
+        }
+      }
+    }
+    return absl::OkStatus();
   }
 
   absl::Status CheckSpec() {
@@ -158,15 +188,8 @@ class GridTMeshBuilder {
         }
         extent[k] = std::max(extent[k], block(b).hi[k]);
       }
-      for (int c = 0; c < b; ++c) {
-        bool overlap = true;
-        for (int k = 0; k < 3; ++k) {
-          overlap = overlap && std::max(block(b).lo[k], block(c).lo[k]) <
-                                   std::min(block(b).hi[k], block(c).hi[k]);
-        }
-        if (overlap) return Invalid("blocks ", c, " and ", b, " overlap");
-      }
     }
+    if (absl::Status indexed = IndexCells(extent); !indexed.ok()) return indexed;
     for (int k = 0; k < 3; ++k) {
       const std::vector<double>& spacing = spec_.spacing[k];
       if (!spacing.empty() && static_cast<int>(spacing.size()) < extent[k]) {
@@ -206,16 +229,12 @@ class GridTMeshBuilder {
           GridBox face = block(b);
           face.lo[k] = face.hi[k] = plane;
           std::vector<GridBox> covered;
-          for (int n = 0; n < num_blocks(); ++n) {
-            if (n == b || (positive ? block(n).lo[k] : block(n).hi[k]) != plane) continue;
+          for (int n : BlocksAcross(b, k, positive)) {
             GridBox common = face;
-            bool area = true;
             for (int q : {FirstInPlaneAxis(k), SecondInPlaneAxis(k)}) {
               common.lo[q] = std::max(face.lo[q], block(n).lo[q]);
               common.hi[q] = std::min(face.hi[q], block(n).hi[q]);
-              area = area && common.lo[q] < common.hi[q];
             }
-            if (!area) continue;
             covered.push_back(common);
             if (b < n) patches_.push_back({common, k, {b, n}, {!positive, positive}});
           }
@@ -229,6 +248,24 @@ class GridTMeshBuilder {
       return std::pair(SortKey(x.rect.lo), x.axis) < std::pair(SortKey(y.rect.lo), y.axis);
     });
     return absl::OkStatus();
+  }
+
+  // The blocks across the face of block b normal to axis k (positive or negative side), ascending:
+  // the owners of the cells just outside the face.
+  std::vector<int> BlocksAcross(int b, int k, bool positive) const {
+    const int qi = FirstInPlaneAxis(k), qj = SecondInPlaneAxis(k);
+    GridPoint cell;
+    cell[k] = positive ? block(b).hi[k] : block(b).lo[k] - 1;
+    std::vector<int> across;
+    for (cell[qi] = block(b).lo[qi]; cell[qi] < block(b).hi[qi]; ++cell[qi]) {
+      for (cell[qj] = block(b).lo[qj]; cell[qj] < block(b).hi[qj]; ++cell[qj]) {
+        const int n = BlockOfCell(cell);
+        if (n >= 0) across.push_back(n);
+      }
+    }
+    std::sort(across.begin(), across.end());
+    across.erase(std::unique(across.begin(), across.end()), across.end());
+    return across;
   }
 
   // Face minus the covered rectangles, as few rectangles as a greedy sweep over the overlay
@@ -591,7 +628,7 @@ class GridTMeshBuilder {
   }
 
   // Singular and feature types and the critical flag, by the rules of shared/separation.md
-  // section 2.1 (core/tmesh_from_proto.cc recomputes them the same way).
+  // section 2.1 (core/tmesh_criticality_checks.cc recomputes them the same way).
   absl::Status WriteNodeTypes() {
     std::vector<bool> arc_on_feature_patch(proto_.arcs_size(), false);
     std::vector<bool> node_on_feature_patch(proto_.nodes_size(), false);
@@ -637,6 +674,13 @@ class GridTMeshBuilder {
   }
 
   absl::Status WriteBlocks() {
+    patch_sides_of_block_.assign(num_blocks(), {});
+    for (size_t p = 0; p < patches_.size(); ++p) {
+      for (int x = 0; x < 2; ++x) {
+        if (patches_[p].blocks[x] >= 0)
+          patch_sides_of_block_[patches_[p].blocks[x]].push_back({p, x});
+      }
+    }
     for (int b = 0; b < num_blocks(); ++b) WriteBlock(b);
     return absl::OkStatus();
   }
@@ -705,20 +749,18 @@ class GridTMeshBuilder {
         }
         return true;
       };
-      for (size_t p = 0; p < patches_.size(); ++p) {
-        for (int x = 0; x < 2; ++x) {
-          if (patches_[p].blocks[x] != b || patches_[p].FaceSide(x) != global_side) continue;
-          out_face->add_patches(static_cast<int>(p));
-          halfpatches.push_back(2 * static_cast<int>(p) + x);
-          for (int h : proto_.patches(p).halfarcs()) {
-            const auto& [from, to] = out_.arc_ends_[h >> 1];
-            block_arcs.insert(h >> 1);
-            const GridPoint mid = {from[0] + to[0], from[1] + to[1], from[2] + to[2]};
-            if (strictly_inside(mid)) inner_arcs.insert(h >> 1);
-            for (const GridPoint& end : {from, to}) {
-              if (strictly_inside({2 * end[0], 2 * end[1], 2 * end[2]})) {
-                inner_nodes.insert(out_.NodeAt(end));
-              }
+      for (const auto& [p, x] : patch_sides_of_block_[b]) {
+        if (patches_[p].FaceSide(x) != global_side) continue;
+        out_face->add_patches(static_cast<int>(p));
+        halfpatches.push_back(2 * static_cast<int>(p) + x);
+        for (int h : proto_.patches(p).halfarcs()) {
+          const auto& [from, to] = out_.arc_ends_[h >> 1];
+          block_arcs.insert(h >> 1);
+          const GridPoint mid = {from[0] + to[0], from[1] + to[1], from[2] + to[2]};
+          if (strictly_inside(mid)) inner_arcs.insert(h >> 1);
+          for (const GridPoint& end : {from, to}) {
+            if (strictly_inside({2 * end[0], 2 * end[1], 2 * end[2]})) {
+              inner_nodes.insert(out_.NodeAt(end));
             }
           }
         }
@@ -899,7 +941,11 @@ class GridTMeshBuilder {
   v1::TMesh& proto_;
   std::array<std::vector<double>, 3> coord_;  // continuous coordinate of each grid index
   std::vector<Rotation> rotation_;            // per block: global frame -> block frame
+  std::array<int, 3> cells_ = {0, 0, 0};      // the grid's extent in cells
+  std::vector<int> cell_block_;               // per cell (u fastest, then v, then w): its block
   std::vector<PatchGeom> patches_;            // per patch id
+  // Per block, its (patch, side) pairs in ascending patch order.
+  std::vector<std::vector<std::pair<size_t, int>>> patch_sides_of_block_;
   std::map<std::array<int, 3>, std::vector<int>> lines_;  // LineKey -> sorted node coordinates
   std::vector<int> arc_axis_;
   std::vector<int> arc_quarter_turns_;  // quarter turns of block material around each arc

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <iostream>
 
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 
 namespace ispq::testing {
 

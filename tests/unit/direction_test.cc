@@ -32,5 +32,17 @@ TEST(DirectionTest, DecodesTheProtoEnumsUpstreamBits) {
   EXPECT_FALSE(EdgeFromUpstreamBits(v1::POS_U_POS_V_POS_W).has_value());
 }
 
+// Messages about block edges name them as the file does, without the proto enum at hand.
+TEST(DirectionTest, EdgeNamesAreTheProtoEnumsNames) {
+  int edges = 0;
+  for (int bits = 0; bits < 64; ++bits) {
+    const std::optional<int> code = EdgeFromUpstreamBits(bits);
+    if (!code) continue;
+    ++edges;
+    EXPECT_EQ(EdgeName(*code), v1::UVWDir_Name(static_cast<v1::UVWDir>(bits))) << bits;
+  }
+  EXPECT_EQ(edges, kNumEdges);
+}
+
 }  // namespace
 }  // namespace ispq

@@ -9,7 +9,7 @@
 
 #include "core/exact/cbc_milp_solver.h"
 #include "core/exact/exact_quantizer.h"
-#include "core/quantization_proto.h"
+#include "core/proto/quantization_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
 #include "gtest/gtest.h"

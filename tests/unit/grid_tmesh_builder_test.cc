@@ -12,10 +12,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "core/direction.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/rotation.h"
 #include "core/tmesh.h"
-#include "core/tmesh_file.h"
-#include "core/tmesh_from_proto.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/util/message_differencer.h"
 #include "gtest/gtest.h"

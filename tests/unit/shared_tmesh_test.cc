@@ -6,8 +6,8 @@
 #include "core/block_extents.h"
 #include "core/consistency_matrix.h"
 #include "core/mesh_stats.h"
+#include "core/proto/tmesh_from_proto.h"
 #include "core/subproblems.h"
-#include "core/tmesh_from_proto.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"
 

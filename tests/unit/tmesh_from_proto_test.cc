@@ -1,6 +1,6 @@
 // Validation of T-mesh messages: every real file is accepted, and a table of corruptions, each
 // generated from a real file, is rejected with a message that names the offending element.
-#include "core/tmesh_from_proto.h"
+#include "core/proto/tmesh_from_proto.h"
 
 #include <cctype>
 #include <cmath>
@@ -9,7 +9,8 @@
 #include <set>
 #include <string>
 
-#include "core/tmesh_file.h"
+#include "core/proto/tmesh_file.h"
+#include "core/read_file.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/util/json_util.h"
 #include "gtest/gtest.h"

@@ -2,8 +2,8 @@
 // mapping (the format of shared/tmesh-format.md) or binary protobuf (`*.tmesh.pb`).
 //
 // This only parses; TMeshFromProto validates. Errors name the file and what failed to parse.
-#ifndef ISPQ_CORE_TMESH_FILE_H_
-#define ISPQ_CORE_TMESH_FILE_H_
+#ifndef ISPQ_CORE_PROTO_TMESH_FILE_H_
+#define ISPQ_CORE_PROTO_TMESH_FILE_H_
 
 #include <string>
 #include <string_view>
@@ -22,9 +22,6 @@ absl::StatusOr<v1::TMesh> ParseTMeshBinary(std::string_view bytes);
 // Binary if the name ends in ".pb" or ".binpb", JSON otherwise.
 absl::StatusOr<v1::TMesh> ReadTMeshFile(const std::string& path);
 
-// Reads a whole file, refusing files larger than max_bytes.
-absl::StatusOr<std::string> ReadFileToString(const std::string& path, size_t max_bytes);
-
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_TMESH_FILE_H_
+#endif  // ISPQ_CORE_PROTO_TMESH_FILE_H_

@@ -1,11 +1,10 @@
-#include "core/tmesh_file.h"
-
-#include <fstream>
-#include <sstream>
+#include "core/proto/tmesh_file.h"
 
 #include "absl/status/status.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "core/read_file.h"
+#include "core/status_macros.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq {
@@ -31,28 +30,10 @@ absl::StatusOr<v1::TMesh> ParseTMeshBinary(std::string_view bytes) {
   return mesh;
 }
 
-absl::StatusOr<std::string> ReadFileToString(const std::string& path, size_t max_bytes) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return absl::NotFoundError(absl::StrCat(path, ": cannot open file"));
-  const std::streamoff size = in.tellg();
-  if (size < 0) return absl::InvalidArgumentError(absl::StrCat(path, ": cannot read file"));
-  if (static_cast<size_t>(size) > max_bytes) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(path, ": file has ", size, " bytes, more than the limit of ", max_bytes));
-  }
-  std::string contents(static_cast<size_t>(size), '\0');
-  in.seekg(0);
-  if (!in.read(contents.data(), size)) {
-    return absl::InvalidArgumentError(absl::StrCat(path, ": cannot read file"));
-  }
-  return contents;
-}
-
 absl::StatusOr<v1::TMesh> ReadTMeshFile(const std::string& path) {
-  absl::StatusOr<std::string> contents = ReadFileToString(path, kMaxTMeshFileBytes);
-  if (!contents.ok()) return contents.status();
+  ISPQ_ASSIGN_OR_RETURN(const std::string contents, ReadFileToString(path, kMaxTMeshFileBytes));
   const bool binary = absl::EndsWith(path, ".pb") || absl::EndsWith(path, ".binpb");
-  absl::StatusOr<v1::TMesh> mesh = binary ? ParseTMeshBinary(*contents) : ParseTMeshJson(*contents);
+  absl::StatusOr<v1::TMesh> mesh = binary ? ParseTMeshBinary(contents) : ParseTMeshJson(contents);
   if (!mesh.ok()) {
     return absl::Status(mesh.status().code(), absl::StrCat(path, ": ", mesh.status().message()));
   }

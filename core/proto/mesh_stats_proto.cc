@@ -1,4 +1,4 @@
-#include "core/mesh_stats_proto.h"
+#include "core/proto/mesh_stats_proto.h"
 
 namespace ispq {
 

@@ -1,11 +1,8 @@
-#include "core/quantization_proto.h"
-
-#include <cmath>
+#include "core/proto/quantization_proto.h"
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
-#include "core/block_extents.h"
-#include "core/resolution_levels.h"
+#include "core/status_macros.h"
 
 namespace ispq {
 namespace {
@@ -42,42 +39,25 @@ v1::Termination TerminationToProto(Termination termination) {
 
 }  // namespace
 
-absl::StatusOr<double> ResolveScaling(const v1::Scaling& scaling, const TMesh& mesh) {
+ScalingChoice ScalingChoiceFromProto(const v1::Scaling& scaling) {
   switch (scaling.kind_case()) {
     case v1::Scaling::kFactor:
-      if (!std::isfinite(scaling.factor()) || scaling.factor() <= 0) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("scaling factor ", scaling.factor(), " is not a positive finite number"));
-      }
-      return scaling.factor();
+      return ScalingChoice::Factor(scaling.factor());
     case v1::Scaling::kLevelPercent:
-      if (!IsLevelPercent(scaling.level_percent())) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "level ", scaling.level_percent(), " is not one of 0, 1, 5, 10, 17, 25, 50, 100"));
-      }
-      return *ScalingForPercent(mesh.arc_lengths(), scaling.level_percent());
-    case v1::Scaling::kTargetHexes: {
-      if (scaling.target_hexes() <= 0) {
-        return absl::InvalidArgumentError(
-            absl::StrCat("target hex count ", scaling.target_hexes(), " is not positive"));
-      }
-      // Continuous hex count grows with s^3.
-      const double volume = ContinuousHexVolume(mesh);
-      return std::cbrt(static_cast<double>(scaling.target_hexes()) / volume);
-    }
+      return ScalingChoice::LevelPercent(scaling.level_percent());
+    case v1::Scaling::kTargetHexes:
+      return ScalingChoice::TargetHexes(scaling.target_hexes());
     case v1::Scaling::KIND_NOT_SET:
       break;
   }
-  return absl::InvalidArgumentError(
-      "no scaling given: set a factor, a level percent or a target hex count");
+  return ScalingChoice();
 }
 
 absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationOptions& proto,
                                                          const TMesh& mesh) {
-  absl::StatusOr<double> scaling = ResolveScaling(proto.scaling(), mesh);
-  if (!scaling.ok()) return scaling.status();
   QuantizeOptions options;
-  options.scaling = *scaling;
+  ISPQ_ASSIGN_OR_RETURN(options.scaling,
+                        ResolveScaling(ScalingChoiceFromProto(proto.scaling()), mesh));
   if (proto.has_mixed_sign()) options.mixed_sign = proto.mixed_sign();
   if (proto.has_decompose()) options.decompose = proto.decompose();
   options.per_arc_nonnegative = proto.per_arc_nonnegative();
@@ -106,7 +86,7 @@ absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationO
   if (proto.has_lower_bound()) {
     options.lower_bound = proto.lower_bound() ? LowerBoundMode::kAlways : LowerBoundMode::kNever;
   }
-  if (absl::Status valid = ValidateQuantizeOptions(mesh, options); !valid.ok()) return valid;
+  ISPQ_RETURN_IF_ERROR(ValidateQuantizeOptions(mesh, options));
   return options;
 }
 

@@ -2,8 +2,8 @@
 // the core types: options in (with the scaling resolved against the mesh), results and progress
 // out. The CLI's local path, its result files and the service all go through these, so a result
 // looks the same wherever it was computed.
-#ifndef ISPQ_CORE_QUANTIZATION_PROTO_H_
-#define ISPQ_CORE_QUANTIZATION_PROTO_H_
+#ifndef ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_
+#define ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_
 
 #include <cstdint>
 #include <vector>
@@ -11,16 +11,18 @@
 #include "absl/status/statusor.h"
 #include "core/quantization_progress.h"
 #include "core/quantizer.h"
+#include "core/scaling.h"
 #include "core/tmesh.h"
 #include "ispq/v1/quantization.pb.h"
 
 namespace ispq {
 
-// The factor s of a Scaling: the factor itself, a level's factor (format section 9), or the
-// factor whose continuous block volume is the target hex count. INVALID_ARGUMENT if unset,
-// non-positive, non-finite or not one of the format's levels.
-absl::StatusOr<double> ResolveScaling(const v1::Scaling& scaling, const TMesh& mesh);
+// The caller's choice of s, resolved by ResolveScaling (core/scaling.h); unset if the message
+// sets none.
+ScalingChoice ScalingChoiceFromProto(const v1::Scaling& scaling);
 
+// Options with the scaling resolved against the mesh; INVALID_ARGUMENT names a bad scaling or
+// option.
 absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationOptions& proto,
                                                          const TMesh& mesh);
 
@@ -35,4 +37,4 @@ absl::StatusOr<std::vector<int64_t>> QuantizationFromProto(const v1::Quantizatio
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_QUANTIZATION_PROTO_H_
+#endif  // ISPQ_CORE_PROTO_QUANTIZATION_PROTO_H_

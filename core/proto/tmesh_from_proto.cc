@@ -1,0 +1,217 @@
+#include "core/proto/tmesh_from_proto.h"
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "absl/strings/str_join.h"
+#include "core/critical_entities.h"
+#include "core/direction.h"
+#include "core/invalid_argument.h"
+#include "core/proto/block_from_proto.h"
+#include "core/proto/message_views.h"
+#include "core/rotation.h"
+#include "core/status_macros.h"
+#include "core/tmesh_input.h"
+
+namespace ispq {
+namespace {
+
+absl::StatusOr<TMeshHeader> DecodeHeader(const v1::TMesh& proto) {
+  if (proto.format_version() != 1) {
+    return InvalidArgument("formatVersion is ", proto.format_version(), ", only 1 is supported");
+  }
+  const v1::FeaturesPresent& present = proto.features_present();
+  return TMeshHeader{
+      .name = proto.name(),
+      .sizes = {proto.nodes_size(), proto.arcs_size(), proto.patches_size(), proto.blocks_size()},
+      .features_present = {present.nodes(), present.arcs(), present.patches()}};
+}
+
+absl::StatusOr<NodeInput> DecodeNode(NodeId n, const v1::Node& node, const IdRanges& ids) {
+  if (node.position_size() != 3) {
+    return InvalidArgument("node ", n, ": position has ", node.position_size(),
+                           " coordinates, not 3");
+  }
+  for (double x : node.position()) {
+    if (!std::isfinite(x)) return InvalidArgument("node ", n, ": position is not finite");
+  }
+  for (int32_t h : node.outgoing_halfarcs()) {
+    if (!ids.Halfarc(h)) {
+      return InvalidArgument("node ", n, ": outgoing halfarc ", h, " does not exist");
+    }
+  }
+  if (!v1::SingularType::Value_IsValid(node.singular_type()) ||
+      !v1::FeatureType::Value_IsValid(node.feature_type())) {
+    return InvalidArgument("node ", n, ": unknown singularType or featureType");
+  }
+  return NodeInput{.outgoing_halfarcs = View(node.outgoing_halfarcs()),
+                   .critical = node.critical(),
+                   .feature = node.feature(),
+                   .boundary = node.boundary(),
+                   .singular_type = static_cast<SingularType>(node.singular_type()),
+                   .feature_type = static_cast<FeatureType>(node.feature_type())};
+}
+
+absl::StatusOr<ArcInput> DecodeArc(ArcId a, const v1::Arc& arc, const IdRanges& ids) {
+  if (!ids.Node(arc.from())) {
+    return InvalidArgument("arc ", a, ": node 'from' ", arc.from(), " does not exist");
+  }
+  if (!ids.Node(arc.to())) {
+    return InvalidArgument("arc ", a, ": node 'to' ", arc.to(), " does not exist");
+  }
+  for (int32_t hp : arc.halfpatches()) {
+    if (!ids.Halfpatch(hp)) {
+      return InvalidArgument("arc ", a, ": halfpatch ", hp, " does not exist");
+    }
+  }
+  return ArcInput{.from = arc.from(),
+                  .to = arc.to(),
+                  .length = arc.length(),
+                  .singular = arc.singular(),
+                  .feature = arc.feature(),
+                  .boundary = arc.boundary(),
+                  .critical = arc.critical(),
+                  .halfpatches = View(arc.halfpatches())};
+}
+
+// The block on each side and the face of it the patch lies on; NONE where there is no block.
+absl::Status DecodePatchBlocks(PatchId p, const v1::Patch& patch, const IdRanges& ids,
+                               PatchInput& input) {
+  if (patch.blocks_size() != 2 || patch.sides_size() != 2) {
+    return InvalidArgument("patch ", p, ": needs exactly 2 blocks and 2 sides");
+  }
+  for (int k = 0; k < 2; ++k) {
+    const int32_t b = patch.blocks(k);
+    input.blocks[k] = b;
+    if (b == kNoId) {
+      if (patch.sides(k) != v1::NONE) {
+        return InvalidArgument("patch ", p, ": side ", k, " has no block but is not NONE");
+      }
+      continue;
+    }
+    if (!ids.Block(b)) return InvalidArgument("patch ", p, ": block ", b, " does not exist");
+    const std::optional<Dir> side = DirFromUpstreamBits(patch.sides(k));
+    if (!side) {
+      return InvalidArgument("patch ", p, ": side ", k, " is not one of the 6 block face sides");
+    }
+    input.face_sides[k] = *side;
+  }
+  return absl::OkStatus();
+}
+
+absl::Status DecodeTransition(PatchId p, const v1::Transition& transition, PatchInput& input) {
+  const auto& r = transition.rotation();
+  if (r.size() != 3) return InvalidArgument("patch ", p, ": transition rotation needs 3 entries");
+  const std::optional<Rotation> rotation = Rotation::FromSignedPermutation({r[0], r[1], r[2]});
+  if (!rotation) {
+    return InvalidArgument("patch ", p, ": transition rotation [", absl::StrJoin(r, ","),
+                           "] is not a proper signed axis permutation");
+  }
+  if (transition.translation_size() != 0 && transition.translation_size() != 3) {
+    return InvalidArgument("patch ", p, ": transition translation needs 3 entries");
+  }
+  for (double t : transition.translation()) {
+    if (!std::isfinite(t)) {
+      return InvalidArgument("patch ", p, ": transition translation is not finite");
+    }
+  }
+  input.rotation = *rotation;
+  return absl::OkStatus();
+}
+
+// The cycle's halfarcs, and the four sides with their directions.
+absl::Status DecodeCycleAndSides(PatchId p, const v1::Patch& patch, const IdRanges& ids,
+                                 PatchInput& input) {
+  for (int32_t h : patch.halfarcs()) {
+    if (!ids.Halfarc(h)) return InvalidArgument("patch ", p, ": halfarc ", h, " does not exist");
+  }
+  input.cycle = View(patch.halfarcs());
+  if (patch.halfarcs_by_dir_size() != 4) {
+    return InvalidArgument("patch ", p, ": has ", patch.halfarcs_by_dir_size(), " sides, not 4");
+  }
+  for (int i = 0; i < 4; ++i) {
+    const v1::DirectedHalfarcs& side = patch.halfarcs_by_dir(i);
+    const std::optional<Dir> dir = DirFromUpstreamBits(side.dir());
+    if (!dir) return InvalidArgument("patch ", p, ": side ", i, " has no single direction");
+    input.sides[i] = {*dir, View(side.halfarcs())};
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<PatchInput> DecodePatch(PatchId p, const v1::Patch& patch, const IdRanges& ids) {
+  PatchInput input;
+  ISPQ_RETURN_IF_ERROR(DecodePatchBlocks(p, patch, ids, input));
+  ISPQ_RETURN_IF_ERROR(DecodeTransition(p, patch.transition(), input));
+  ISPQ_RETURN_IF_ERROR(DecodeCycleAndSides(p, patch, ids, input));
+  input.feature = patch.feature();
+  input.boundary = patch.boundary();
+  input.critical = patch.critical();
+  input.ref_block = patch.ref_block();
+  return input;
+}
+
+// Nodes, arcs, patches and blocks, each decoded and handed to the builder in id order.
+absl::Status AddElements(const v1::TMesh& proto, const IdRanges& ids, TMeshBuilder& builder) {
+  for (NodeId n = 0; n < proto.nodes_size(); ++n) {
+    ISPQ_ASSIGN_OR_RETURN(const NodeInput node, DecodeNode(n, proto.nodes(n), ids));
+    ISPQ_RETURN_IF_ERROR(builder.AddNode(node));
+  }
+  for (ArcId a = 0; a < proto.arcs_size(); ++a) {
+    ISPQ_ASSIGN_OR_RETURN(const ArcInput arc, DecodeArc(a, proto.arcs(a), ids));
+    ISPQ_RETURN_IF_ERROR(builder.AddArc(arc));
+  }
+  for (PatchId p = 0; p < proto.patches_size(); ++p) {
+    ISPQ_ASSIGN_OR_RETURN(const PatchInput patch, DecodePatch(p, proto.patches(p), ids));
+    ISPQ_RETURN_IF_ERROR(builder.AddPatch(patch));
+  }
+  for (BlockId b = 0; b < proto.blocks_size(); ++b) {
+    ISPQ_ASSIGN_OR_RETURN(BlockInput block, BlockInputFromProto(b, proto.blocks(b), ids));
+    ISPQ_RETURN_IF_ERROR(builder.AddBlock(std::move(block)));
+  }
+  return absl::OkStatus();
+}
+
+// The entity list a request may send; its ids must be its positions. The builder compares it
+// with the entities the mesh makes, which need not be range-checked: they are never indexed.
+absl::StatusOr<std::vector<CriticalEntity>> DecodeCriticalEntities(const v1::TMesh& proto) {
+  std::vector<CriticalEntity> entities;
+  for (int e = 0; e < proto.critical_entities_size(); ++e) {
+    const v1::CriticalEntity& entity = proto.critical_entities(e);
+    if (entity.id() != e) return InvalidArgument("critical entity ", e, ": id is ", entity.id());
+    if (entity.dim() < 0 || entity.dim() > 2) {
+      return InvalidArgument("critical entity ", e, ": dim ", entity.dim(), " is not 0, 1 or 2");
+    }
+    CriticalEntity& decoded = entities.emplace_back();
+    decoded.dim = static_cast<EntityDim>(entity.dim());
+    if (decoded.dim != EntityDim::kRegion) {
+      decoded.node_from = entity.node_from();
+      decoded.node_to = entity.node_to();
+    }
+    decoded.halfarcs.assign(entity.halfarcs().begin(), entity.halfarcs().end());
+    decoded.patches.assign(entity.patches().begin(), entity.patches().end());
+    decoded.boundary_arcs.assign(entity.boundary_arcs().begin(), entity.boundary_arcs().end());
+  }
+  return entities;
+}
+
+}  // namespace
+
+absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
+                                     const TMeshValidationOptions& options) {
+  ISPQ_ASSIGN_OR_RETURN(const TMeshHeader header, DecodeHeader(proto));
+  ISPQ_ASSIGN_OR_RETURN(TMeshBuilder builder, TMeshBuilder::Create(header, options));
+  ISPQ_RETURN_IF_ERROR(AddElements(proto, IdRanges(header.sizes), builder));
+  ISPQ_RETURN_IF_ERROR(builder.Connect());
+  ISPQ_ASSIGN_OR_RETURN(const std::vector<CriticalEntity> listed, DecodeCriticalEntities(proto));
+  ISPQ_RETURN_IF_ERROR(builder.DeriveCriticalEntities(listed));
+  for (const v1::Level& level : proto.levels()) {
+    ISPQ_RETURN_IF_ERROR(builder.AddLevel({level.percent(), level.scaling()}));
+  }
+  return std::move(builder).Build();
+}
+
+}  // namespace ispq

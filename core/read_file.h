@@ -1,0 +1,20 @@
+// Reading a whole file into memory with a size limit: T-mesh and result files, the server's TLS
+// certificates and keys, token files. The limit is checked before anything is read, so a huge or
+// endless file is refused instead of exhausting memory; errors name the file.
+#ifndef ISPQ_CORE_READ_FILE_H_
+#define ISPQ_CORE_READ_FILE_H_
+
+#include <cstddef>
+#include <string>
+
+#include "absl/status/statusor.h"
+
+namespace ispq {
+
+// The file's bytes. NOT_FOUND if it cannot be opened, INVALID_ARGUMENT if it is larger than
+// max_bytes or cannot be read.
+absl::StatusOr<std::string> ReadFileToString(const std::string& path, size_t max_bytes);
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_READ_FILE_H_

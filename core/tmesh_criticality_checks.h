@@ -1,0 +1,35 @@
+// Rules about what is critical (shared/tmesh-format.md sections 4 and 8, shared/separation.md
+// section 2): an arc's boundary flag and whether its singular mark is non-zero follow from the
+// blocks around it (core/arc_singularity.h); a node's critical flag follows from the marks of its
+// arcs and patches; and a list of critical entities that comes with the mesh must be the one the
+// mesh makes (core/critical_entities.h).
+//
+// The separation certificate rests on these flags, so they are recomputed and compared instead of
+// trusted: a mismatch means the mesh was built by different rules. TMeshBuilder runs them after
+// the incidence and frame checks, once the arc -> blocks adjacency exists. Failures are
+// INVALID_ARGUMENT naming the element and both verdicts.
+#ifndef ISPQ_CORE_TMESH_CRITICALITY_CHECKS_H_
+#define ISPQ_CORE_TMESH_CRITICALITY_CHECKS_H_
+
+#include <span>
+
+#include "absl/status/status.h"
+#include "core/critical_entities.h"
+#include "core/tmesh.h"
+#include "core/tmesh_input.h"
+
+namespace ispq {
+
+absl::Status CheckArcSingularity(const TMesh& mesh);
+
+// The critical-node rules of shared/separation.md section 2.1; which of them apply depends on
+// the kinds of feature markers the source had.
+absl::Status CheckCriticalNodes(const TMesh& mesh, const FeaturesPresent& present);
+
+// `listed` (a request's list; empty when it sends none) equals `derived` entity by entity.
+absl::Status CheckListedCriticalEntities(std::span<const CriticalEntity> derived,
+                                         std::span<const CriticalEntity> listed);
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_TMESH_CRITICALITY_CHECKS_H_

@@ -1,0 +1,9 @@
+#include "server/memory_release.h"
+
+#include <malloc.h>
+
+namespace ispq::server {
+
+void ReleaseFreedMemory() { malloc_trim(0); }
+
+}  // namespace ispq::server

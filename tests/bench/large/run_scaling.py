@@ -1,0 +1,203 @@
+#!/usr/bin/python3
+"""The scaling benchmark: ISP on large synthetic T-meshes, from 10^2 to 2*10^5 arcs.
+
+For every family (large_tmesh_generator.h: single, slabs, rotated), size and level (5, 25, 100)
+it generates the mesh once (cached in OUT/meshes), runs one quantization per process
+(ispq_scaling_run: CPU time in total and per phase, LP solves, objective, validity, time and
+memory at the first separating q, peak memory) and writes
+
+  OUT/scaling.tsv     one row per run
+  OUT/scaling.md      the table, the fitted growth exponents (log-log least squares over the
+                      sizes from 1k to 100k arcs) of the total and of every phase, the largest
+                      size solved within 60 s CPU, peak memory per arc
+  OUT/scaling.png     log-log plots: CPU time per family and level, per phase, the first
+                      separating q against the whole solve, peak memory per arc
+
+Run by hand (it takes long; not part of the test command), e.g.
+
+  tests/bench/large/run_scaling.py --out /tmp/scaling
+  tests/bench/large/run_scaling.py --out /tmp/scaling --sizes 1000,3000,10000 --families single
+
+Runs past --time-limit CPU seconds are stopped and recorded with termination time_limit.
+"""
+
+import argparse
+import csv
+import math
+import os
+import subprocess
+import sys
+
+FAMILIES = ["single", "slabs", "rotated"]
+LEVELS = [5, 25, 100]
+PHASES = [("cpu_s", "total"), ("greedy_cpu_s", "greedy"), ("search_cpu_s", "separation search"),
+          ("separating_cpu_s", "separating updates")]
+
+
+def build_dir():
+    return os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "build",
+                        "release", "tests", "bench")
+
+
+def mesh_file(args, family, size):
+    path = os.path.join(args.out, "meshes", f"{family}_{size}.tmesh.pb")
+    if not os.path.exists(path):
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        subprocess.run([os.path.join(args.bin, "ispq_make_large_tmesh"), "--family", family,
+                        "--arcs", str(size), "--seed", str(args.seed), "--out", path],
+                       check=True, stdout=subprocess.DEVNULL)
+    return path
+
+
+def run_one(args, path, level):
+    command = [os.path.join(args.bin, "ispq_scaling_run"), "--mesh", path, "--level", str(level),
+               "--header", "--time_limit", str(args.time_limit)]
+    done = subprocess.run(command, capture_output=True, text=True,
+                          timeout=max(60, 3 * args.time_limit))
+    lines = done.stdout.strip().splitlines()
+    if len(lines) != 2:
+        raise RuntimeError(f"{' '.join(command)}: {done.stderr.strip()}")
+    return dict(zip(lines[0].split("\t"), lines[1].split("\t")))
+
+
+def fit_exponent(points):
+    """Least-squares slope of log(y) over log(x)."""
+    points = [(math.log(x), math.log(y)) for x, y in points if x > 0 and y > 0]
+    if len(points) < 2:
+        return float("nan")
+    mx = sum(p[0] for p in points) / len(points)
+    my = sum(p[1] for p in points) / len(points)
+    sxx = sum((p[0] - mx) ** 2 for p in points)
+    sxy = sum((p[0] - mx) * (p[1] - my) for p in points)
+    return sxy / sxx if sxx > 0 else float("nan")
+
+
+def write_markdown(rows, path, fit_range):
+    lo, hi = fit_range
+    with open(path, "w") as out:
+        out.write("| family | arcs | level | CPU s | greedy | search | separating | LP solves "
+                  "| first separating q (CPU s, share) | objective | valid | peak RSS B/arc |\n")
+        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            cpu = float(r["cpu_s"])
+            first = float(r["first_separating_cpu_s"])
+            share = f"{first:.2f} ({100 * first / cpu:.0f}%)" if first >= 0 and cpu > 0 else "-"
+            rss_per_arc = 1024 * 1024 * float(r["peak_rss_mib"]) / int(r["arcs"])
+            out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {cpu:.2f} | "
+                      f"{float(r['greedy_cpu_s']):.2f} | {float(r['search_cpu_s']):.2f} | "
+                      f"{float(r['separating_cpu_s']):.2f} | {r['lp_solves']} | {share} | "
+                      f"{float(r['objective']):.1f} | {r['valid']} {r['termination']} | "
+                      f"{rss_per_arc:.0f} |\n")
+        out.write(f"\nGrowth exponents (CPU time ~ arcs^k, fitted over {lo}..{hi} arcs):\n\n")
+        out.write("| family | level | " + " | ".join(name for _, name in PHASES) + " |\n")
+        out.write("|---|---|" + "---|" * len(PHASES) + "\n")
+        for family in FAMILIES:
+            for level in LEVELS:
+                sel = [r for r in rows if r["family"] == family and int(r["level"]) == level
+                       and lo <= int(r["arcs"]) <= hi and r["termination"] == "converged"]
+                if not sel:
+                    continue
+                ks = [fit_exponent([(int(r["arcs"]), float(r[key])) for r in sel])
+                      for key, _ in PHASES]
+                out.write(f"| {family} | {level} | " + " | ".join(f"{k:.2f}" for k in ks) + " |\n")
+        out.write("\nLargest mesh solved within 60 s CPU, per family and level:\n\n")
+        for family in FAMILIES:
+            for level in LEVELS:
+                ok = [int(r["arcs"]) for r in rows if r["family"] == family and
+                      int(r["level"]) == level and float(r["cpu_s"]) <= 60 and
+                      r["termination"] == "converged"]
+                if ok:
+                    out.write(f"- {family}, level {level}: {max(ok)} arcs\n")
+
+
+def plot(rows, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    colors = {"single": "tab:blue", "slabs": "tab:orange", "rotated": "tab:green"}
+    styles = {5: ":", 25: "--", 100: "-"}
+    ax = axes[0][0]
+    for family in FAMILIES:
+        for level in LEVELS:
+            sel = sorted((int(r["arcs"]), float(r["cpu_s"])) for r in rows
+                         if r["family"] == family and int(r["level"]) == level)
+            if sel:
+                ax.plot(*zip(*sel), styles[level], marker="o", color=colors[family],
+                        label=f"{family} L{level}")
+    ax.set_title("CPU time of the whole solve")
+    ax = axes[0][1]
+    for key, name in PHASES[1:]:
+        sel = sorted((int(r["arcs"]), max(float(r[key]), 1e-4)) for r in rows
+                     if r["family"] == "single" and int(r["level"]) == 100)
+        if sel:
+            ax.plot(*zip(*sel), marker="o", label=name)
+    ax.set_title("CPU time per phase (single, level 100)")
+    ax = axes[1][0]
+    for family in FAMILIES:
+        sel = sorted((int(r["arcs"]), float(r["first_separating_cpu_s"])) for r in rows
+                     if r["family"] == family and int(r["level"]) == 100 and
+                     float(r["first_separating_cpu_s"]) > 0)
+        if sel:
+            ax.plot(*zip(*sel), "--", marker="s", color=colors[family], label=f"{family}: first")
+        sel = sorted((int(r["arcs"]), float(r["cpu_s"])) for r in rows
+                     if r["family"] == family and int(r["level"]) == 100)
+        if sel:
+            ax.plot(*zip(*sel), "-", marker="o", color=colors[family], label=f"{family}: final")
+    ax.set_title("First separating q and final q, CPU s (level 100)")
+    ax = axes[1][1]
+    for family in FAMILIES:
+        sel = sorted((int(r["arcs"]), 1024 * 1024 * float(r["peak_rss_mib"]) / int(r["arcs"]))
+                     for r in rows if r["family"] == family and int(r["level"]) == 100)
+        if sel:
+            ax.plot(*zip(*sel), marker="o", color=colors[family], label=family)
+    ax.set_title("Peak RSS per arc, bytes (level 100)")
+    for row in axes:
+        for ax in row:
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            ax.set_xlabel("arcs")
+            ax.grid(True, which="both", alpha=0.3)
+            ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--out", required=True)
+    parser.add_argument("--bin", default=build_dir())
+    parser.add_argument("--sizes", default="100,300,1000,3000,10000,30000,100000,200000")
+    parser.add_argument("--families", default=",".join(FAMILIES))
+    parser.add_argument("--levels", default=",".join(map(str, LEVELS)))
+    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--time-limit", type=float, default=900)
+    parser.add_argument("--fit-range", default="1000,100000")
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    tsv_path = os.path.join(args.out, "scaling.tsv")
+    with open(tsv_path, "w") as tsv:
+        writer = None
+        for family in args.families.split(","):
+            for size in map(int, args.sizes.split(",")):
+                path = mesh_file(args, family, size)
+                for level in map(int, args.levels.split(",")):
+                    row = {"family": family, "target_arcs": size, **run_one(args, path, level)}
+                    rows.append(row)
+                    if writer is None:
+                        writer = csv.DictWriter(tsv, fieldnames=list(row), delimiter="\t")
+                        writer.writeheader()
+                    writer.writerow(row)
+                    tsv.flush()
+                    print(f"{family} {row['arcs']} arcs L{level}: {float(row['cpu_s']):.2f} s CPU, "
+                          f"valid {row['valid']}, {row['termination']}", flush=True)
+    fit_range = tuple(map(int, args.fit_range.split(",")))
+    write_markdown(rows, os.path.join(args.out, "scaling.md"), fit_range)
+    plot(rows, os.path.join(args.out, "scaling.png"))
+    return 0 if all(r["valid"] == "1" for r in rows) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

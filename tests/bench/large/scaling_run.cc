@@ -1,0 +1,117 @@
+// One run of the scaling benchmark (run_scaling.py drives it): quantizes one T-mesh file at one
+// level in-process, single-threaded, and prints one TSV row (with --header, the header first):
+//
+//   ispq_scaling_run --mesh F.tmesh.pb --level P [--header] [--time_limit S]
+//
+// Columns: arcs, level, the solve's CPU seconds in total and per phase (greedy descent,
+// separation search, separating updates; CPU time of the solving thread), LP solves, separation
+// rounds and rows, subproblems, objective, validity (the validator's verdict), the CPU seconds
+// and objective at the first separating q (the first valid intermediate result a client gets),
+// and the peak resident memory (VmHWM, MiB) at the end of the first greedy descent, at the first
+// separating q and at the end.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <limits>
+#include <string>
+
+#include "absl/flags/flag.h"
+#include "absl/flags/parse.h"
+#include "core/isp/run_clock.h"
+#include "core/quantization_validator.h"
+#include "core/quantizer.h"
+#include "tests/support/test_data.h"
+
+ABSL_FLAG(std::string, mesh, "", "T-mesh file (.pb or .json)");
+ABSL_FLAG(int, level, 100, "resolution level percent");
+ABSL_FLAG(bool, header, false, "print the TSV header first");
+ABSL_FLAG(double, time_limit, std::numeric_limits<double>::infinity(), "seconds");
+
+namespace ispq::bench {
+namespace {
+
+double PeakRssMib() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kib = 0;
+      status >> kib;
+      return kib / 1024;
+    }
+  }
+  return 0;
+}
+
+// Watches the run: memory when the first descent ends, time and objective of the first
+// separating q.
+class RunWatcher : public ProgressObserver {
+ public:
+  explicit RunWatcher(double cpu_start) : cpu_start_(cpu_start) {}
+  void OnProgress(const ProgressEvent& event) override {
+    if (greedy_rss_ < 0 && event.phase != QuantizationPhase::kGreedy) greedy_rss_ = PeakRssMib();
+    if (event.separating && first_separating_cpu_ < 0) {
+      first_separating_cpu_ = ThreadCpuSeconds() - cpu_start_;
+      first_separating_objective_ = event.objective;
+      first_separating_rss_ = PeakRssMib();
+    }
+  }
+  double greedy_rss_ = -1;
+  double first_separating_cpu_ = -1;
+  double first_separating_objective_ = -1;
+  double first_separating_rss_ = -1;
+
+ private:
+  double cpu_start_;
+};
+
+int Run() {
+  const TMesh mesh = testing::LoadTMeshOrDie(absl::GetFlag(FLAGS_mesh));
+  double scaling = 0;
+  for (const Level& level : mesh.levels()) {
+    if (level.percent == absl::GetFlag(FLAGS_level)) scaling = level.scaling;
+  }
+  if (scaling == 0) {
+    std::cerr << "no level " << absl::GetFlag(FLAGS_level) << "\n";
+    return 2;
+  }
+  QuantizeOptions options;
+  options.scaling = scaling;
+  options.time_limit_seconds = absl::GetFlag(FLAGS_time_limit);
+  const double cpu_start = ThreadCpuSeconds();
+  RunWatcher watcher(cpu_start);
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &watcher);
+  const double cpu = ThreadCpuSeconds() - cpu_start;
+  if (!result.ok()) {
+    std::cerr << result.status() << "\n";
+    return 1;
+  }
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result->q);
+  const bool valid = result->valid && report.ok() && report->valid();
+  if (absl::GetFlag(FLAGS_header)) {
+    std::printf(
+        "arcs\tlevel\tcpu_s\tgreedy_cpu_s\tsearch_cpu_s\tseparating_cpu_s\tlp_solves\t"
+        "sep_rounds\tsep_rows\tsubproblems\tobjective\tvalid\ttermination\t"
+        "first_separating_cpu_s\tfirst_separating_objective\tgreedy_rss_mib\t"
+        "first_separating_rss_mib\tpeak_rss_mib\n");
+  }
+  const QuantizeStats& s = result->stats;
+  std::printf(
+      "%d\t%d\t%.4f\t%.4f\t%.4f\t%.4f\t%lld\t%lld\t%lld\t%d\t%.6f\t%d\t%s\t%.4f\t%.6f\t%.1f\t%."
+      "1f\t%.1f\n",
+      mesh.num_arcs(), absl::GetFlag(FLAGS_level), cpu, s.greedy_seconds,
+      s.separation_search_seconds, s.separating_update_seconds, static_cast<long long>(s.lp_solves),
+      static_cast<long long>(s.separation_rounds), static_cast<long long>(s.separation_rows),
+      s.subproblems, result->objective, valid ? 1 : 0, TerminationName(result->termination),
+      watcher.first_separating_cpu_, watcher.first_separating_objective_, watcher.greedy_rss_,
+      watcher.first_separating_rss_, PeakRssMib());
+  return valid ? 0 : 3;
+}
+
+}  // namespace
+}  // namespace ispq::bench
+
+int main(int argc, char** argv) {
+  absl::ParseCommandLine(argc, argv);
+  return ispq::bench::Run();
+}
