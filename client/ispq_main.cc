@@ -2,7 +2,8 @@
 //
 //   ispq stats FILE [--json]
 //   ispq quantize FILE (--local | --server HOST:PORT) (--level P | --scaling S | --target-hexes N)
-//        [--mixed-sign=B] [--time-limit SECONDS] [--out RESULT.json] [--json]
+//        [--method isp|exact] [--lower-bound auto|on|off] [--mixed-sign=B]
+//        [--time-limit SECONDS] [--out RESULT.json] [--json]
 //   ispq validate FILE --result RESULT.json [--level P | --scaling S]
 //   ispq submit FILE | watch JOB | cancel JOB | jobs | health | server-stats  [--server ...]
 //
@@ -37,6 +38,11 @@ ABSL_FLAG(bool, per_arc_nonnegative, false, "also require every arc length to be
 ABSL_FLAG(bool, reference_block_boxes, false,
           "separation search in the reference implementation's compatibility mode");
 ABSL_FLAG(double, time_limit, 0, "stop after this many seconds with the best valid result");
+ABSL_FLAG(std::string, method, "isp",
+          "isp (the Integer-Sheet-Pump) or exact (ISP, then a MILP until proven optimal or the "
+          "time limit, default 60 s)");
+ABSL_FLAG(std::string, lower_bound, "auto",
+          "auto (for meshes up to 5000 arcs), on or off: compute a lower bound for an ISP result");
 ABSL_FLAG(std::string, out, "", "write the result JSON to this file");
 ABSL_FLAG(std::string, result, "", "result JSON to validate");
 ABSL_FLAG(bool, progress, true, "show live progress on stderr");
@@ -61,10 +67,10 @@ constexpr char kUsage[] =
     "  ispq stats FILE [--json]\n"
     "      validate a T-mesh and print its counts\n"
     "  ispq quantize FILE (--local | --server HOST:PORT) (--level P | --scaling S |\n"
-    "       --target-hexes N) [--mixed-sign=true|false] [--time-limit SECONDS]\n"
-    "       [--out RESULT.json] [--json]\n"
+    "       --target-hexes N) [--method isp|exact] [--lower-bound auto|on|off]\n"
+    "       [--mixed-sign=true|false] [--time-limit SECONDS] [--out RESULT.json] [--json]\n"
     "      quantize in-process or on a server (default 127.0.0.1:50051); exit 0 only for a\n"
-    "      valid result\n"
+    "      valid result; --method exact proves optimality (or reports the gap at the limit)\n"
     "  ispq validate FILE --result RESULT.json [--level P | --scaling S]\n"
     "      check any quantization with the product's validator\n"
     "  ispq submit FILE (--level P | ...) [--json]   queue a job on the server, print its name\n"
@@ -112,9 +118,30 @@ bool ScalingFromFlags(ispq::v1::Scaling& scaling) {
   return given <= 1;
 }
 
+// --method and --lower-bound into the message; false (with a message) for unknown values.
+bool MethodFromFlags(ispq::v1::QuantizationOptions& q) {
+  const std::string method = absl::GetFlag(FLAGS_method);
+  if (method == "isp") {
+    q.set_method(ispq::v1::METHOD_ISP);
+  } else if (method == "exact") {
+    q.set_method(ispq::v1::METHOD_EXACT);
+  } else {
+    std::cerr << "ispq: --method must be isp or exact, got '" << method << "'\n";
+    return false;
+  }
+  const std::string bound = absl::GetFlag(FLAGS_lower_bound);
+  if (bound == "on" || bound == "off") {
+    q.set_lower_bound(bound == "on");
+  } else if (bound != "auto") {
+    std::cerr << "ispq: --lower-bound must be auto, on or off, got '" << bound << "'\n";
+    return false;
+  }
+  return true;
+}
+
 // The quantization flags as a message, shared by quantize (both paths) and submit.
 bool QuantizationFromFlags(ispq::v1::QuantizationOptions& q) {
-  if (!ScalingFromFlags(*q.mutable_scaling())) return false;
+  if (!ScalingFromFlags(*q.mutable_scaling()) || !MethodFromFlags(q)) return false;
   q.set_mixed_sign(absl::GetFlag(FLAGS_mixed_sign));
   q.set_decompose(absl::GetFlag(FLAGS_decompose));
   q.set_per_arc_nonnegative(absl::GetFlag(FLAGS_per_arc_nonnegative));

@@ -20,10 +20,14 @@ class ProgressPrinter {
   void Finish();
 
  private:
+  // Exact mode's phase: nodes, MILP solves, the best objective, the bound and the gap.
+  void UpdateExact(const v1::Progress& progress);
+
   FILE* out_;
   bool tty_;
   bool line_open_ = false;
   double last_plain_seconds_ = -1;
+  bool exact_line_printed_ = false;
 };
 
 }  // namespace ispq::cli

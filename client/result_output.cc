@@ -47,11 +47,19 @@ void PrintResultSummary(const v1::QuantizationResult& result, std::ostream& out)
       << " at scaling " << result.scaling() << " (" << v1::Termination_Name(result.termination())
       << ")\n"
       << "  objective " << result.objective() << ", " << result.hexes() << " hexes, "
-      << result.q_size() << " arcs\n"
-      << "  " << s.lp_solves() << " LP solves, sheets " << s.sheets_inflating() << " inflating / "
+      << result.q_size() << " arcs\n";
+  if (result.has_lower_bound()) {
+    out << "  lower bound " << result.lower_bound() << ", gap " << 100 * result.gap()
+        << " % (for the separation rows found)\n";
+  }
+  out << "  " << s.lp_solves() << " LP solves, sheets " << s.sheets_inflating() << " inflating / "
       << s.sheets_deflating() << " deflating / " << s.sheets_mixed() << " mixed, "
-      << s.separation_rounds() << " separation rounds (" << s.separation_rows() << " rows)\n"
-      << "  solved in " << s.solve_seconds() << " s\n";
+      << s.separation_rounds() << " separation rounds (" << s.separation_rows() << " rows)\n";
+  if (s.milp_solves() > 0) {
+    out << "  exact: " << s.milp_solves() << " MILP solves, " << s.milp_nodes() << " nodes, "
+        << s.milp_incumbents() << " candidates checked, " << s.exact_seconds() << " s\n";
+  }
+  out << "  solved in " << s.solve_seconds() << " s\n";
 }
 
 int OutputResult(const v1::QuantizationResult& result, const std::string& out_path, bool json) {

@@ -12,6 +12,8 @@ const char* QuantizationPhaseName(QuantizationPhase phase) {
       return "failsafe";
     case QuantizationPhase::kFinal:
       return "final";
+    case QuantizationPhase::kExact:
+      return "exact";
   }
   return "unknown";
 }

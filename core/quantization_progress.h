@@ -5,6 +5,7 @@
 #define ISPQ_CORE_QUANTIZATION_PROGRESS_H_
 
 #include <cstdint>
+#include <optional>
 #include <span>
 
 namespace ispq {
@@ -14,6 +15,7 @@ enum class QuantizationPhase : uint8_t {
   kSeparation,  // separating sheet updates after a lazy separation round
   kFailsafe,    // the failsafe (non-negative rows only) separation mode of App. B
   kFinal,       // the last thorough greedy pass and the final checks
+  kExact,       // exact mode: the MILP's branch and bound with its lazy separation loop
 };
 
 const char* QuantizationPhaseName(QuantizationPhase phase);
@@ -27,6 +29,8 @@ struct ProgressEvent {
   bool separating;               // q satisfies every known row and the last search found nothing
   double elapsed_seconds;
   std::span<const int64_t> q;  // current q, only if the observer WantsQuantization()
+  // Exact mode: no q satisfying the separation rows found so far is better than this.
+  std::optional<double> lower_bound = std::nullopt;
 };
 
 class ProgressObserver {

@@ -10,6 +10,8 @@ const char* TerminationName(Termination termination) {
       return "time_limit";
     case Termination::kInterrupted:
       return "interrupted";
+    case Termination::kOptimal:
+      return "optimal";
   }
   return "unknown";
 }

@@ -1,10 +1,12 @@
-// What a quantization gives back: the integer arc lengths with their verdict, how the run ended
-// and what it cost. The ISP engine (core/isp/) fills the statistics; the facade
-// (core/quantizer.h) adds the validator's verdict, the objective and the hex count.
+// What a quantization gives back: the integer arc lengths with their verdict, how the run ended,
+// how far from optimal it is proven to be and what it cost. The ISP engine (core/isp/) and the
+// exact mode (core/exact/) fill the statistics; the facade (core/quantizer.h) adds the
+// validator's verdict, the objective, the lower bound and the hex count.
 #ifndef ISPQ_CORE_QUANTIZE_RESULT_H_
 #define ISPQ_CORE_QUANTIZE_RESULT_H_
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace ispq {
@@ -13,6 +15,7 @@ enum class Termination : uint8_t {
   kConverged,    // no improving sheet left and the separation search finds nothing
   kTimeLimit,    // stopped at the time limit; q is the best valid result found, if any
   kInterrupted,  // stopped by the SolveInterrupter; likewise
+  kOptimal,      // exact mode: proven optimal for the separation rows found (gap 0)
 };
 
 const char* TerminationName(Termination termination);
@@ -35,6 +38,13 @@ struct QuantizeStats {
   double greedy_seconds = 0;
   double separation_search_seconds = 0;
   double separating_update_seconds = 0;
+  double lower_bound_seconds = 0;  // the LP of the lower bound (ISP mode)
+  // Exact mode: MILP solves of the lazy loop, branch-and-bound nodes, incumbents checked by the
+  // separation search, and the time after ISP.
+  int64_t milp_solves = 0;
+  int64_t milp_nodes = 0;
+  int64_t milp_incumbents = 0;
+  double exact_seconds = 0;
   double solve_seconds = 0;  // wall time of the whole quantization, without reading the mesh
 };
 
@@ -45,7 +55,12 @@ struct QuantizeResult {
   bool valid = false;
   std::vector<int64_t> q;  // per arc, in the mesh's arc order
   double objective = 0;    // d(q, s*l)
-  int64_t hexes = 0;       // only meaningful if valid
+  // No q that is consistent, keeps block extents >= 0, satisfies the simple rows and the
+  // separation rows the run found has a smaller objective (core/exact/lower_bound.h); and
+  // lower_bound <= objective. Only for valid results, and in ISP mode only if asked.
+  std::optional<double> lower_bound;
+  std::optional<double> gap;  // (objective - lower_bound) / objective; 0 if both are 0
+  int64_t hexes = 0;          // only meaningful if valid
   QuantizeStats stats;
 };
 

@@ -6,8 +6,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler libssl-dev
-  coinor-libclp-dev libabsl-dev libspdlog-dev libgtest-dev libgmock-dev
-  python3
+  coinor-libclp-dev coinor-libcbc-dev libabsl-dev libspdlog-dev libgtest-dev libgmock-dev
+  python3 python3-matplotlib  # the benchmark report (tests/bench/report) draws its plots with it
   openssl  # the service's TLS integration tests make their certificates with it
   clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tests/fuzz
 )

@@ -21,6 +21,7 @@
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"
 #include "core/quantize_result.h"
+#include "core/separation_row.h"
 #include "core/solve_interrupter.h"
 #include "core/tmesh.h"
 
@@ -31,6 +32,9 @@ struct IspOutcome {
   std::vector<int64_t> q;  // per arc
   // The driver's own verdict: the simple rows hold and its last search on q found nothing.
   bool separating = false;
+  // The separation rows in force at the end (found paths, default or failsafe form) over arcs,
+  // each bundle written as its first arc: the rows the result's lower bound is certified for.
+  std::vector<SeparationRow> separation_rows;
   QuantizeStats stats;
 };
 

@@ -18,11 +18,14 @@ class RunClock {
  public:
   using Clock = std::chrono::steady_clock;
 
-  // `interrupter` may be null.
-  RunClock(const SolveInterrupter* interrupter, double time_limit_seconds)
-      : interrupter_(interrupter), time_limit_seconds_(time_limit_seconds), start_(Clock::now()) {}
+  // `interrupter` may be null. The limit counts from `start` (by default: now).
+  RunClock(const SolveInterrupter* interrupter, double time_limit_seconds,
+           Clock::time_point start = Clock::now())
+      : interrupter_(interrupter), time_limit_seconds_(time_limit_seconds), start_(start) {}
 
   double ElapsedSeconds() const { return SecondsSince(start_); }
+  // Until the time limit (infinite without one; negative once it has passed).
+  double RemainingSeconds() const { return time_limit_seconds_ - ElapsedSeconds(); }
 
   // Whether the run must stop; once true it stays true, and termination() says why.
   bool ShouldStop() {

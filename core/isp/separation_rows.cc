@@ -170,4 +170,14 @@ void SeparationRows::RestoreDefaultForms(std::span<const Swap> swaps, SheetSubpr
   }
 }
 
+std::vector<int32_t> SeparationRows::ActiveSeparationRows() const {
+  std::vector<int32_t> active;
+  for (int32_t r = 0; r < rows_.size(); ++r) {
+    const RowOrigin origin = rows_.origin(r);
+    const bool found = origin == RowOrigin::kStructural || origin == RowOrigin::kFailsafe;
+    if (found && rows_.active(r) && !required_[r]) active.push_back(r);
+  }
+  return active;
+}
+
 }  // namespace ispq

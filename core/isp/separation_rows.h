@@ -61,6 +61,10 @@ class SeparationRows {
   // their twin being an equally sufficient condition for the same path.
   void RestoreDefaultForms(std::span<const Swap> swaps, SheetSubproblem& subproblem);
 
+  // The rows of found paths in force now (each in its default or failsafe form), without C and
+  // the simple rows: what the run's result is certified against (core/exact/lower_bound.h).
+  std::vector<int32_t> ActiveSeparationRows() const;
+
  private:
   int32_t Add(std::span<const LinearTerm> terms, int64_t rhs, RowOrigin origin, bool active);
   // Activates row r if it is not; a row in no LP yet goes to `to_attach`.

@@ -17,6 +17,8 @@ v1::Phase PhaseToProto(QuantizationPhase phase) {
       return v1::FAILSAFE;
     case QuantizationPhase::kFinal:
       return v1::FINAL;
+    case QuantizationPhase::kExact:
+      return v1::EXACT;
   }
   return v1::PHASE_UNSPECIFIED;
 }
@@ -29,6 +31,8 @@ v1::Termination TerminationToProto(Termination termination) {
       return v1::TIME_LIMIT;
     case Termination::kInterrupted:
       return v1::INTERRUPTED;
+    case Termination::kOptimal:
+      return v1::OPTIMAL;
   }
   return v1::TERMINATION_UNSPECIFIED;
 }
@@ -67,6 +71,21 @@ absl::StatusOr<QuantizeOptions> QuantizeOptionsFromProto(const v1::QuantizationO
     }
     options.time_limit_seconds = seconds;
   }
+  switch (proto.method()) {
+    case v1::METHOD_UNSPECIFIED:
+    case v1::METHOD_ISP:
+      options.method = QuantizationMethod::kIsp;
+      break;
+    case v1::METHOD_EXACT:
+      options.method = QuantizationMethod::kExact;
+      break;
+    default:
+      return absl::InvalidArgumentError(
+          absl::StrCat("method ", static_cast<int>(proto.method()), " is not a known method"));
+  }
+  if (proto.has_lower_bound()) {
+    options.lower_bound = proto.lower_bound() ? LowerBoundMode::kAlways : LowerBoundMode::kNever;
+  }
   ISPQ_RETURN_IF_ERROR(ValidateQuantizeOptions(mesh, options));
   return options;
 }
@@ -82,6 +101,8 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   proto.set_scaling(scaling);
   proto.set_valid(result.valid);
   proto.set_termination(TerminationToProto(result.termination));
+  if (result.lower_bound.has_value()) proto.set_lower_bound(*result.lower_bound);
+  if (result.gap.has_value()) proto.set_gap(*result.gap);
   proto.set_mesh_name(mesh.name());
   const QuantizeStats& s = result.stats;
   v1::QuantizationStats* stats = proto.mutable_stats();
@@ -101,6 +122,11 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   stats->set_separation_search_seconds(s.separation_search_seconds);
   stats->set_separating_update_seconds(s.separating_update_seconds);
   stats->set_solve_seconds(s.solve_seconds);
+  stats->set_lower_bound_seconds(s.lower_bound_seconds);
+  stats->set_milp_solves(s.milp_solves);
+  stats->set_milp_nodes(s.milp_nodes);
+  stats->set_milp_incumbents(s.milp_incumbents);
+  stats->set_exact_seconds(s.exact_seconds);
   return proto;
 }
 
@@ -113,6 +139,7 @@ v1::Progress ProgressToProto(const ProgressEvent& event) {
   proto.set_violated_constraints(event.violated_constraints);
   proto.set_separating(event.separating);
   proto.set_elapsed_seconds(event.elapsed_seconds);
+  if (event.lower_bound.has_value()) proto.set_lower_bound(*event.lower_bound);
   return proto;
 }
 

@@ -1,10 +1,14 @@
-// The ISP benchmark: every shared T-mesh at all 8 resolution levels, single-threaded, in-process.
-// Writes one TSV row per run and prints a one-screen summary: time (median, max, total),
-// validity, objective ratios to the upstream reference (ISP and exact IQP), lcd statistics, and
-// optionally the effect of mixed-sign sheets and of the reference's separation-search mode.
+// The quantization benchmark: every shared T-mesh at all 8 resolution levels (or some),
+// single-threaded, in-process, with ISP or exact mode. Writes one TSV row per run (and, with
+// --trace_out, the anytime curve of every run) and prints a one-screen summary: time (median,
+// max, total), validity, objective ratios to the upstream reference (ISP and exact IQP), lower
+// bounds and gaps, lcd statistics, and optionally the effect of mixed-sign sheets, of the
+// reference's separation-search mode and the cost of the lower bound, measured side by side.
 //
-//   ispq_bench [--out bench.tsv] [--filter SUBSTRING] [--compare_mixed_sign]
-//              [--compare_reference_search] [--repeat N]
+//   ispq_bench [--out bench.tsv] [--trace_out trace.tsv] [--filter SUBSTRING] [--levels 5,50]
+//              [--method isp|exact] [--time_limit S] [--mixed_sign=false] [--lower_bound on]
+//              [--compare_mixed_sign] [--compare_reference_search] [--compare_lower_bound]
+//              [--repeat N]
 //
 // Not part of the unit-test run; speed and quality are measured here, never asserted in tests.
 #include <algorithm>
@@ -13,14 +17,17 @@
 #include <iostream>
 #include <map>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/strings/match.h"
+#include "absl/strings/numbers.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
+#include "tests/bench/progress_trace.h"
 #include "tests/bench/reference_results.h"
 #include "tests/support/test_data.h"
 
@@ -31,6 +38,14 @@ ABSL_FLAG(bool, compare_mixed_sign, false, "also run with mixed-sign sheets off 
 ABSL_FLAG(bool, compare_reference_search, false,
           "also run certifying with the reference's search alone and compare");
 ABSL_FLAG(int, repeat, 1, "run each instance this many times and keep the fastest time");
+ABSL_FLAG(std::string, trace_out, "", "TSV file with the anytime curve of every run");
+ABSL_FLAG(std::vector<std::string>, levels, {}, "only these levels (percent), e.g. 5,50");
+ABSL_FLAG(std::string, method, "isp", "isp or exact");
+ABSL_FLAG(double, time_limit, 0, "time limit per run in seconds (0: none; exact mode: 60)");
+ABSL_FLAG(bool, mixed_sign, true, "allow mixed-sign sheets");
+ABSL_FLAG(std::string, lower_bound, "auto", "auto, on or off: the lower bound of ISP results");
+ABSL_FLAG(bool, compare_lower_bound, false,
+          "also time every ISP run without and with its lower bound, alternating, and compare");
 
 namespace ispq::bench {
 namespace {
@@ -43,6 +58,14 @@ struct Run {
   QuantizeResult result;
   double seconds = 0;
   bool validator_ok = false;  // independent validator call on the returned q
+  std::string trace;          // TSV rows of the anytime curve
+};
+
+struct BenchConfig {
+  QuantizeOptions options;
+  int repeat = 1;
+  std::vector<int> levels;  // empty: all
+  bool trace = false;
 };
 
 double Median(std::vector<double> v) {
@@ -52,22 +75,34 @@ double Median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+const char* MethodName(const QuantizeOptions& options) {
+  return options.method == QuantizationMethod::kExact ? "exact" : "isp";
+}
+
 Run RunOne(const TMesh& mesh, const std::string& model, const Level& level,
-           const QuantizeOptions& base, int repeat) {
+           const BenchConfig& config) {
   Run run;
   run.model = model;
   run.percent = level.percent;
   run.scaling = level.scaling;
   run.arcs = mesh.num_arcs();
-  QuantizeOptions options = base;
+  QuantizeOptions options = config.options;
   options.scaling = level.scaling;
   run.seconds = 1e300;
-  for (int i = 0; i < repeat; ++i) {
-    absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+  for (int i = 0; i < config.repeat; ++i) {
+    ProgressTrace trace;
+    absl::StatusOr<QuantizeResult> result =
+        Quantize(mesh, options, config.trace ? &trace : nullptr);
     if (!result.ok()) {
       std::cerr << model << " @" << level.percent << "%: " << result.status() << "\n";
       run.seconds = 0;
       return run;
+    }
+    if (result->stats.solve_seconds < run.seconds && config.trace) {
+      std::ostringstream rows;
+      rows.precision(10);
+      trace.WriteRows(model, level.percent, MethodName(options), rows);
+      run.trace = rows.str();
     }
     run.seconds = std::min(run.seconds, result->stats.solve_seconds);
     run.result = *std::move(result);
@@ -80,15 +115,20 @@ Run RunOne(const TMesh& mesh, const std::string& model, const Level& level,
   return run;
 }
 
-// Runs every model at every level with `options`.
-std::vector<Run> RunAll(const std::vector<std::string>& files, const QuantizeOptions& options,
-                        int repeat) {
+bool Selected(const BenchConfig& config, int percent) {
+  return config.levels.empty() ||
+         std::find(config.levels.begin(), config.levels.end(), percent) != config.levels.end();
+}
+
+// Runs every model at every selected level.
+std::vector<Run> RunAll(const std::vector<std::string>& files, const BenchConfig& config) {
   std::vector<Run> runs;
   for (const std::string& file : files) {
     const TMesh mesh = testing::LoadTMeshOrDie(file);
     const std::string model = testing::ShortName(file);
-    for (const Level& level : mesh.levels())
-      runs.push_back(RunOne(mesh, model, level, options, repeat));
+    for (const Level& level : mesh.levels()) {
+      if (Selected(config, level.percent)) runs.push_back(RunOne(mesh, model, level, config));
+    }
   }
   return runs;
 }
@@ -100,22 +140,43 @@ uint64_t QHash(const std::vector<int64_t>& q) {
   return h;
 }
 
+std::string Optional(const std::optional<double>& value) {
+  return value.has_value() ? std::to_string(*value) : "";
+}
+
 void WriteTsv(const std::string& path, const std::vector<Run>& runs,
               const ReferenceResults& reference) {
   std::ofstream out(path);
-  out << "model\tlevel\tscaling\tarcs\ttime_s\tobjective\thexes\tlp_solves\tsep_rounds\tsep_rows"
-         "\tvalid\tref_time_s\tref_objective\tiqp_objective\tq_hash\n";
+  out.precision(10);
+  out << "model\tlevel\tscaling\tarcs\tmethod\ttime_s\tobjective\tlower_bound\tgap\ttermination"
+         "\thexes\tlp_solves\tsep_rounds\tsep_rows\tlcd_one\tlcd_two\tlcd_more\tbound_s"
+         "\tmilp_solves\tmilp_nodes\tmilp_incumbents\texact_s\tvalid\tref_time_s\tref_objective"
+         "\tiqp_time_s\tiqp_objective\tq_hash\n";
   for (const Run& r : runs) {
     const auto ref = reference.Isp(r.model, r.percent);
     const auto iqp = reference.Iqp(r.model, r.percent);
-    out << r.model << "\t" << r.percent << "\t" << r.scaling << "\t" << r.arcs << "\t" << r.seconds
-        << "\t" << r.result.objective << "\t" << r.result.hexes << "\t" << r.result.stats.lp_solves
-        << "\t" << r.result.stats.separation_rounds << "\t" << r.result.stats.separation_rows
-        << "\t" << (r.result.valid && r.validator_ok ? "yes" : "no") << "\t"
+    const QuantizeStats& s = r.result.stats;
+    out << r.model << "\t" << r.percent << "\t" << r.scaling << "\t" << r.arcs << "\t"
+        << (s.milp_solves > 0 || r.result.termination == Termination::kOptimal ? "exact" : "isp")
+        << "\t" << r.seconds << "\t" << r.result.objective << "\t" << Optional(r.result.lower_bound)
+        << "\t" << Optional(r.result.gap) << "\t" << TerminationName(r.result.termination) << "\t"
+        << r.result.hexes << "\t" << s.lp_solves << "\t" << s.separation_rounds << "\t"
+        << s.separation_rows << "\t" << s.lcd_one << "\t" << s.lcd_two << "\t" << s.lcd_more << "\t"
+        << s.lower_bound_seconds << "\t" << s.milp_solves << "\t" << s.milp_nodes << "\t"
+        << s.milp_incumbents << "\t" << s.exact_seconds << "\t"
+        << (r.result.valid && r.validator_ok ? "yes" : "no") << "\t"
         << (ref ? std::to_string(ref->seconds) : "") << "\t"
         << (ref ? std::to_string(ref->objective) : "") << "\t"
+        << (iqp ? std::to_string(iqp->seconds) : "") << "\t"
         << (iqp ? std::to_string(iqp->objective) : "") << "\t" << QHash(r.result.q) << "\n";
   }
+}
+
+void WriteTrace(const std::string& path, const std::vector<Run>& runs) {
+  std::ofstream out(path);
+  out.precision(10);
+  ProgressTrace::WriteHeader(out);
+  for (const Run& r : runs) out << r.trace;
 }
 
 // Objective ratio that tolerates zero objectives on both sides.
@@ -124,7 +185,7 @@ double Ratio(double ours, double theirs) {
   return ours / theirs;
 }
 
-void PrintSummary(const std::vector<Run>& runs, const ReferenceResults& reference) {
+void PrintTimes(const std::vector<Run>& runs, const ReferenceResults& reference) {
   std::vector<double> times, ref_times;
   int valid = 0;
   QuantizeStats total;
@@ -141,13 +202,35 @@ void PrintSummary(const std::vector<Run>& runs, const ReferenceResults& referenc
   const double ref_sum = std::accumulate(ref_times.begin(), ref_times.end(), 0.0);
   std::printf("runs %zu, valid %d, invalid %zu\n", runs.size(), valid, runs.size() - valid);
   std::printf(
-      "time: median %.4f s, max %.4f s, total %.2f s   (reference: median %.4f s, total %.2f "
+      "time: median %.4f s, max %.4f s, total %.2f s   (reference ISP: median %.4f s, total %.2f "
       "s)\n",
       Median(times), times.empty() ? 0 : *std::max_element(times.begin(), times.end()), sum,
       Median(ref_times), ref_sum);
   std::printf("LP solves %lld; lcd of rational LP solutions: 1: %lld, 2: %lld, >2: %lld\n",
               static_cast<long long>(total.lp_solves), static_cast<long long>(total.lcd_one),
               static_cast<long long>(total.lcd_two), static_cast<long long>(total.lcd_more));
+}
+
+// Gaps of the runs that have a lower bound, and how many are proven optimal.
+void PrintGaps(const std::vector<Run>& runs) {
+  std::vector<double> gaps;
+  int optimal = 0, zero = 0;
+  for (const Run& r : runs) {
+    optimal += r.result.termination == Termination::kOptimal;
+    if (!r.result.gap.has_value()) continue;
+    gaps.push_back(*r.result.gap);
+    zero += *r.result.gap <= 1e-9;
+  }
+  if (gaps.empty()) return;
+  std::printf(
+      "lower bounds on %zu runs: gap median %.4f%%, mean %.4f%%, max %.4f%%, zero on %d; "
+      "proven optimal %d\n",
+      gaps.size(), 100 * Median(gaps),
+      100 * std::accumulate(gaps.begin(), gaps.end(), 0.0) / static_cast<double>(gaps.size()),
+      100 * *std::max_element(gaps.begin(), gaps.end()), zero, optimal);
+}
+
+void PrintLevels(const std::vector<Run>& runs, const ReferenceResults& reference) {
   std::printf("\n%-6s %5s %12s %12s %12s %6s %6s %10s\n", "level", "runs", "mean ratio",
               "sum ratio", "vs IQP", "better", "worse", "median s");
   for (int percent : {0, 1, 5, 10, 17, 25, 50, 100}) {
@@ -181,6 +264,29 @@ void PrintSummary(const std::vector<Run>& runs, const ReferenceResults& referenc
   }
 }
 
+// Against the reference IQP, instance by instance: how many are not worse.
+void PrintIqpComparison(const std::vector<Run>& runs, const ReferenceResults& reference) {
+  int n = 0, not_worse = 0, better = 0;
+  for (const Run& r : runs) {
+    const auto iqp = reference.Iqp(r.model, r.percent);
+    if (!iqp.has_value()) continue;
+    ++n;
+    not_worse += r.result.objective <= iqp->objective * (1 + 1e-6) + 1e-9;
+    better += r.result.objective < iqp->objective * (1 - 1e-6) - 1e-9;
+  }
+  if (n > 0) {
+    std::printf("vs reference IQP on %d instances: not worse on %d, better on %d\n", n, not_worse,
+                better);
+  }
+}
+
+void PrintSummary(const std::vector<Run>& runs, const ReferenceResults& reference) {
+  PrintTimes(runs, reference);
+  PrintGaps(runs);
+  PrintIqpComparison(runs, reference);
+  PrintLevels(runs, reference);
+}
+
 // Counts instances where variant A's objective is lower than B's by more than `margin`.
 void PrintComparison(const char* name_a, const std::vector<Run>& a, const char* name_b,
                      const std::vector<Run>& b) {
@@ -201,6 +307,53 @@ void PrintComparison(const char* name_a, const std::vector<Run>& a, const char* 
       name_a, name_b, n, name_a, a_better, a_much_better, b_better, best_factor);
 }
 
+// ISP without and with its lower bound, alternating per instance so that both see the same
+// machine load; the fastest of `repeat` runs each.
+void CompareLowerBound(const std::vector<std::string>& files, BenchConfig config) {
+  double without = 0, with = 0, bound_only = 0;
+  std::vector<double> ratios;
+  for (const std::string& file : files) {
+    const TMesh mesh = testing::LoadTMeshOrDie(file);
+    for (const Level& level : mesh.levels()) {
+      if (!Selected(config, level.percent)) continue;
+      config.options.lower_bound = LowerBoundMode::kNever;
+      const Run off = RunOne(mesh, "", level, config);
+      config.options.lower_bound = LowerBoundMode::kAlways;
+      const Run on = RunOne(mesh, "", level, config);
+      without += off.seconds;
+      with += on.seconds;
+      bound_only += on.result.stats.lower_bound_seconds;
+      if (off.seconds > 0) ratios.push_back(on.seconds / off.seconds);
+    }
+  }
+  std::printf(
+      "\nlower bound cost, side by side over %zu runs: ISP alone %.3f s, ISP with bound %.3f s "
+      "(ratio %.3f; bound LPs %.3f s); per-run ratio median %.3f\n",
+      ratios.size(), without, with, without > 0 ? with / without : 0, bound_only, Median(ratios));
+}
+
+absl::StatusOr<BenchConfig> ConfigFromFlags() {
+  BenchConfig config;
+  config.repeat = std::max(1, absl::GetFlag(FLAGS_repeat));
+  config.trace = !absl::GetFlag(FLAGS_trace_out).empty();
+  for (const std::string& level : absl::GetFlag(FLAGS_levels)) {
+    int percent = 0;
+    if (!absl::SimpleAtoi(level, &percent)) return absl::InvalidArgumentError("bad --levels");
+    config.levels.push_back(percent);
+  }
+  const std::string method = absl::GetFlag(FLAGS_method);
+  if (method != "isp" && method != "exact") return absl::InvalidArgumentError("bad --method");
+  config.options.method = method == "exact" ? QuantizationMethod::kExact : QuantizationMethod::kIsp;
+  const std::string bound = absl::GetFlag(FLAGS_lower_bound);
+  if (bound == "on") config.options.lower_bound = LowerBoundMode::kAlways;
+  if (bound == "off") config.options.lower_bound = LowerBoundMode::kNever;
+  if (absl::GetFlag(FLAGS_time_limit) > 0) {
+    config.options.time_limit_seconds = absl::GetFlag(FLAGS_time_limit);
+  }
+  config.options.mixed_sign = absl::GetFlag(FLAGS_mixed_sign);
+  return config;
+}
+
 }  // namespace
 }  // namespace ispq::bench
 
@@ -215,23 +368,32 @@ int main(int argc, char** argv) {
     std::cerr << "no T-meshes found under " << testing::SharedTMeshDir() << "\n";
     return 1;
   }
+  absl::StatusOr<bench::BenchConfig> config = bench::ConfigFromFlags();
+  if (!config.ok()) {
+    std::cerr << config.status().message() << "\n";
+    return 2;
+  }
   std::string reference_dir = absl::GetFlag(FLAGS_reference_dir);
   if (reference_dir.empty()) reference_dir = testing::SharedTMeshDir() + "/../../reference";
   const bench::ReferenceResults reference = bench::ReferenceResults::Load(reference_dir);
-  const int repeat = std::max(1, absl::GetFlag(FLAGS_repeat));
 
-  const std::vector<bench::Run> runs = bench::RunAll(files, QuantizeOptions{}, repeat);
+  const std::vector<bench::Run> runs = bench::RunAll(files, *config);
   bench::WriteTsv(absl::GetFlag(FLAGS_out), runs, reference);
+  if (config->trace) bench::WriteTrace(absl::GetFlag(FLAGS_trace_out), runs);
   bench::PrintSummary(runs, reference);
   if (absl::GetFlag(FLAGS_compare_mixed_sign)) {
-    QuantizeOptions uniform;
-    uniform.mixed_sign = false;
-    bench::PrintComparison("mixed-sign", runs, "uniform-sign", bench::RunAll(files, uniform, 1));
+    bench::BenchConfig uniform = *config;
+    uniform.options.mixed_sign = false;
+    uniform.repeat = 1;
+    uniform.trace = false;
+    bench::PrintComparison("mixed-sign", runs, "uniform-sign", bench::RunAll(files, uniform));
   }
   if (absl::GetFlag(FLAGS_compare_reference_search)) {
-    QuantizeOptions compat;
-    compat.separation = SeparationRule::kReferenceSearch;
-    const std::vector<bench::Run> compat_runs = bench::RunAll(files, compat, 1);
+    bench::BenchConfig compat = *config;
+    compat.options.separation = SeparationRule::kReferenceSearch;
+    compat.repeat = 1;
+    compat.trace = false;
+    const std::vector<bench::Run> compat_runs = bench::RunAll(files, compat);
     int64_t rows_sorted = 0, rows_compat = 0;
     for (const auto& r : runs) rows_sorted += r.result.stats.separation_rows;
     for (const auto& r : compat_runs) rows_compat += r.result.stats.separation_rows;
@@ -239,6 +401,7 @@ int main(int argc, char** argv) {
                 static_cast<long long>(rows_sorted), static_cast<long long>(rows_compat));
     bench::PrintComparison("both searches", runs, "reference only", compat_runs);
   }
+  if (absl::GetFlag(FLAGS_compare_lower_bound)) bench::CompareLowerBound(files, *config);
   int invalid = 0;
   for (const auto& r : runs) invalid += !(r.result.valid && r.validator_ok);
   return invalid == 0 ? 0 : 1;

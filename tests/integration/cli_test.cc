@@ -47,6 +47,8 @@ v1::QuantizationResult WithoutTimings(v1::QuantizationResult result) {
   stats->clear_separation_search_seconds();
   stats->clear_separating_update_seconds();
   stats->clear_solve_seconds();
+  stats->clear_lower_bound_seconds();
+  stats->clear_exact_seconds();
   return result;
 }
 

@@ -1,6 +1,6 @@
 // Quantize() on tiny synthetic T-meshes whose optimal quantization is known: found by
 // enumerating every consistent q near the targets in order of objective until the validator
-// accepts one.
+// accepts one (tests/support/enumerated_optimum.h).
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -14,6 +14,7 @@
 #include "core/quantizer.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "tests/support/enumerated_optimum.h"
 #include "tests/support/grid_tmesh_builder.h"
 #include "tests/support/test_data.h"
 
@@ -25,63 +26,6 @@ using ::ispq::testing::ExtrudeLayout;
 using ::ispq::testing::GridLayout2D;
 using ::ispq::testing::GridTMesh;
 using ::ispq::testing::GridTMeshSpec;
-
-struct Optimum {
-  double objective;
-  std::vector<int64_t> q;
-};
-
-double Objective(const TMesh& mesh, double scaling, const std::vector<int64_t>& q) {
-  double sum = 0;
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    sum += std::pow(static_cast<double>(q[a]) - scaling * mesh.arc_length(a), 2);
-  }
-  return sum;
-}
-
-// The best valid q among all consistent q whose bundles (arcs forced equal) lie within
-// `radius` of the rounded mean target of the bundle, and are >= 0. Far from the targets q only
-// gets worse, so on these meshes that is the global optimum.
-std::optional<Optimum> ExactOptimum(const TMesh& mesh, double scaling, int radius) {
-  const ConsistencyMatrix consistency(mesh);
-  const ArcBundles bundles(mesh, consistency);
-  const int nb = bundles.num_bundles();
-  std::vector<int64_t> low(nb), count(nb);
-  double combinations = 1;
-  for (BundleId b = 0; b < nb; ++b) {
-    double mean = 0;
-    for (ArcId a : bundles.arcs(b)) mean += scaling * mesh.arc_length(a);
-    mean /= static_cast<double>(bundles.arcs(b).size());
-    low[b] = std::max<int64_t>(0, std::llround(mean) - radius);
-    count[b] = std::llround(mean) + radius - low[b] + 1;
-    combinations *= static_cast<double>(count[b]);
-  }
-  if (combinations > 5e6) {
-    ADD_FAILURE() << "too many candidates to enumerate: " << combinations;
-    return std::nullopt;
-  }
-  std::vector<Optimum> consistent;
-  std::vector<int64_t> digit(nb, 0), q(mesh.num_arcs());
-  while (true) {
-    for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-      const BundleId b = bundles.bundle_of(a);
-      q[a] = low[b] + digit[b];
-    }
-    bool ok = true;
-    for (int r = 0; r < consistency.num_rows() && ok; ++r) ok = consistency.RowValue(r, q) == 0;
-    if (ok) consistent.push_back({Objective(mesh, scaling, q), q});
-    int b = 0;
-    while (b < nb && ++digit[b] == count[b]) digit[b++] = 0;
-    if (b == nb) break;
-  }
-  std::sort(consistent.begin(), consistent.end(),
-            [](const Optimum& x, const Optimum& y) { return x.objective < y.objective; });
-  for (const Optimum& candidate : consistent) {
-    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, candidate.q);
-    if (report.ok() && report->valid()) return candidate;
-  }
-  return std::nullopt;
-}
 
 GridTMesh Build(const GridTMeshSpec& spec) {
   absl::StatusOr<GridTMesh> mesh = BuildGridTMesh(spec);
@@ -98,8 +42,9 @@ void ExpectOptimal(const GridTMeshSpec& spec, double scaling, int radius = 1) {
   const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
   ASSERT_TRUE(result.ok()) << spec.name << ": " << result.status();
   EXPECT_TRUE(result->valid) << spec.name;
-  const std::optional<Optimum> optimum = ExactOptimum(mesh, scaling, radius);
-  ASSERT_TRUE(optimum.has_value()) << spec.name;
+  const absl::StatusOr<testing::EnumeratedOptimum> optimum =
+      testing::EnumerateOptimum(mesh, scaling, radius);
+  ASSERT_TRUE(optimum.ok()) << spec.name << ": " << optimum.status();
   EXPECT_NEAR(result->objective, optimum->objective, 1e-9) << spec.name;
 }
 
