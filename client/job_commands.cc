@@ -8,6 +8,7 @@
 #include "absl/time/time.h"
 #include "client/exit_codes.h"
 #include "client/job_output.h"
+#include "client/message_json.h"
 #include "client/quantize_input.h"
 #include "client/quantizer_client.h"
 #include "google/protobuf/util/time_util.h"

@@ -4,7 +4,6 @@
 
 #include "client/exit_codes.h"
 #include "client/result_output.h"
-#include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {
 
@@ -26,14 +25,6 @@ bool JobEventPrinter::OnEvent(const v1::QuantizeEvent& event) {
 }
 
 void JobEventPrinter::Finish() { progress_.Finish(); }
-
-std::string MessageToJson(const google::protobuf::Message& message) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.always_print_primitive_fields = true;
-  std::string json;
-  (void)google::protobuf::util::MessageToJsonString(message, &json, options);
-  return json;
-}
 
 int ReportError(const std::string& context, const absl::Status& error) {
   std::cerr << "ispq: " << context << ": " << error.message() << "\n";

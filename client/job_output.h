@@ -36,9 +36,6 @@ int ReportJobOutcome(const client::JobOutcome& outcome, const RemoteCommandOptio
 // Prints `error` as "ispq: <context>: <message>" and returns its exit code.
 int ReportError(const std::string& context, const absl::Status& error);
 
-// The JSON form of any message, with every field written.
-std::string MessageToJson(const google::protobuf::Message& message);
-
 }  // namespace ispq::cli
 
 #endif  // ISPQ_CLIENT_JOB_OUTPUT_H_

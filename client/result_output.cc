@@ -5,23 +5,16 @@
 
 #include "absl/strings/str_cat.h"
 #include "client/exit_codes.h"
+#include "client/message_json.h"
 #include "core/proto/tmesh_file.h"
 #include "core/read_file.h"
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {
 
-std::string ResultToJson(const v1::QuantizationResult& result) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.always_print_primitive_fields = true;  // `valid: false` and zero counts are answers too
-  std::string json;
-  (void)google::protobuf::util::MessageToJsonString(result, &json, options);
-  return json;
-}
-
 absl::Status WriteResultFile(const std::string& path, const v1::QuantizationResult& result) {
   std::ofstream out(path, std::ios::trunc);
-  out << ResultToJson(result) << "\n";
+  out << MessageToJson(result) << "\n";
   out.close();
   if (!out) return absl::InternalError(absl::StrCat(path, ": cannot write the result"));
   return absl::OkStatus();
@@ -70,7 +63,7 @@ int OutputResult(const v1::QuantizationResult& result, const std::string& out_pa
     }
   }
   if (json) {
-    std::cout << ResultToJson(result) << "\n";
+    std::cout << MessageToJson(result) << "\n";
   } else {
     PrintResultSummary(result, std::cout);
   }

@@ -12,7 +12,6 @@
 
 namespace ispq::cli {
 
-std::string ResultToJson(const v1::QuantizationResult& result);
 absl::Status WriteResultFile(const std::string& path, const v1::QuantizationResult& result);
 // Reads a result file; unknown keys are ignored so results produced elsewhere can be checked.
 absl::StatusOr<v1::QuantizationResult> ReadResultFile(const std::string& path);

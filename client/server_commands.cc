@@ -5,6 +5,7 @@
 #include "client/exit_codes.h"
 #include "client/health_check.h"
 #include "client/job_output.h"
+#include "client/message_json.h"
 #include "client/quantizer_client.h"
 
 namespace ispq::cli {

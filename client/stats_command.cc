@@ -3,35 +3,26 @@
 #include <iostream>
 
 #include "client/exit_codes.h"
+#include "client/mesh_file_input.h"
+#include "client/message_json.h"
 #include "core/mesh_stats.h"
 #include "core/proto/mesh_stats_proto.h"
-#include "core/proto/tmesh_file.h"
-#include "core/proto/tmesh_from_proto.h"
-#include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {
 
 int RunStatsCommand(const std::string& path, bool json) {
-  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(path);
-  if (!proto.ok()) {
-    std::cerr << "ispq: " << proto.status().message() << "\n";
+  absl::StatusOr<MeshFile> file = LoadMeshFile(path);
+  if (!file.ok()) {
+    std::cerr << "ispq: " << file.status().message() << "\n";
     return kExitInvalidInput;
   }
-  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
-  if (!mesh.ok()) {
-    std::cerr << "ispq: " << path << ": " << mesh.status().message() << "\n";
-    return kExitInvalidInput;
-  }
-  const MeshStats stats = ComputeMeshStats(*mesh);
+  const TMesh& mesh = file->mesh;
+  const MeshStats stats = ComputeMeshStats(mesh);
   if (json) {
-    std::string out;
-    google::protobuf::util::JsonPrintOptions options;
-    options.always_print_primitive_fields = true;
-    (void)google::protobuf::util::MessageToJsonString(MeshStatsToProto(stats), &out, options);
-    std::cout << out << "\n";
+    std::cout << MessageToJson(MeshStatsToProto(stats)) << "\n";
     return kExitOk;
   }
-  std::cout << path << " (" << mesh->name() << ")\n"
+  std::cout << path << " (" << mesh.name() << ")\n"
             << "  blocks            " << stats.blocks << "\n"
             << "  patches           " << stats.patches << "\n"
             << "  arcs              " << stats.arcs << "\n"

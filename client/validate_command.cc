@@ -4,28 +4,24 @@
 
 #include "absl/strings/str_split.h"
 #include "client/exit_codes.h"
+#include "client/mesh_file_input.h"
+#include "client/message_json.h"
 #include "client/result_output.h"
 #include "core/block_extents.h"
 #include "core/proto/quantization_proto.h"
-#include "core/proto/tmesh_file.h"
-#include "core/proto/tmesh_from_proto.h"
+#include "core/quantization_objective.h"
 #include "core/quantization_validator.h"
 #include "core/scaling.h"
-#include "google/protobuf/util/json_util.h"
 
 namespace ispq::cli {
 
 int RunValidate(const ValidateCommandOptions& options) {
-  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(options.mesh_path);
-  if (!proto.ok()) {
-    std::cerr << "ispq: " << proto.status().message() << "\n";
+  absl::StatusOr<MeshFile> file = LoadMeshFile(options.mesh_path);
+  if (!file.ok()) {
+    std::cerr << "ispq: " << file.status().message() << "\n";
     return kExitInvalidInput;
   }
-  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
-  if (!mesh.ok()) {
-    std::cerr << "ispq: " << options.mesh_path << ": " << mesh.status().message() << "\n";
-    return kExitInvalidInput;
-  }
+  const TMesh* mesh = &file->mesh;
   absl::StatusOr<v1::QuantizationResult> result = ReadResultFile(options.result_path);
   if (!result.ok()) {
     std::cerr << "ispq: " << result.status().message() << "\n";
@@ -49,11 +45,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     std::cerr << "ispq: " << report.status().message() << "\n";
     return kExitFailed;
   }
-  double objective = 0;
-  for (ArcId a = 0; a < mesh->num_arcs(); ++a) {
-    const double d = static_cast<double>((*q)[a]) - *scaling * mesh->arc_length(a);
-    objective += d * d;
-  }
+  const double objective = QuantizationObjective(*mesh, *q, *scaling);
   const bool valid = report->valid();
   if (options.json) {
     v1::ValidationVerdict verdict;
@@ -67,11 +59,7 @@ int RunValidate(const ValidateCommandOptions& options) {
     for (absl::string_view line : absl::StrSplit(report->Describe(), '\n', absl::SkipEmpty())) {
       verdict.add_problems(std::string(line));
     }
-    google::protobuf::util::JsonPrintOptions print;
-    print.always_print_primitive_fields = true;
-    std::string json;
-    (void)google::protobuf::util::MessageToJsonString(verdict, &json, print);
-    std::cout << json << "\n";
+    std::cout << MessageToJson(verdict) << "\n";
   } else {
     std::cout << (valid ? "valid" : "NOT valid") << ": objective " << objective;
     if (valid) std::cout << ", " << *HexCount(*mesh, *q) << " hexes";

@@ -15,6 +15,7 @@
 #include "core/isp/integer_sheet_pump.h"
 #include "core/isp/run_clock.h"
 #include "core/quantization_limits.h"
+#include "core/quantization_objective.h"
 #include "core/quantization_validator.h"
 #include "core/status_macros.h"
 
@@ -66,12 +67,7 @@ absl::Status Certify(const TMesh& mesh, const QuantizeOptions& options, bool cla
     return absl::InternalError(
         absl::StrCat("the quantizer converged to an invalid q: ", report.Describe(5)));
   }
-  double objective = 0;
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    const double d = static_cast<double>(result.q[a]) - options.scaling * mesh.arc_length(a);
-    objective += d * d;
-  }
-  result.objective = objective;
+  result.objective = QuantizationObjective(mesh, result.q, options.scaling);
   result.hexes = result.valid ? *HexCount(mesh, result.q) : 0;
   return absl::OkStatus();
 }

@@ -1,0 +1,21 @@
+#include "client/mesh_file_input.h"
+
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+#include "core/proto/tmesh_file.h"
+#include "core/proto/tmesh_from_proto.h"
+
+namespace ispq::cli {
+
+absl::StatusOr<MeshFile> LoadMeshFile(const std::string& path) {
+  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(path);
+  if (!proto.ok()) return proto.status();  // its message names the file already
+  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
+  if (!mesh.ok()) {
+    return absl::Status(mesh.status().code(), absl::StrCat(path, ": ", mesh.status().message()));
+  }
+  return MeshFile{*std::move(proto), *std::move(mesh)};
+}
+
+}  // namespace ispq::cli

@@ -1,0 +1,26 @@
+// A T-mesh file as every CLI command takes it: read (JSON or binary protobuf), then decoded and
+// checked into the model. One place, so that `quantize`, `submit`, `validate` and `stats` refuse
+// a bad file with the same message and the same exit code.
+#ifndef ISPQ_CLIENT_MESH_FILE_INPUT_H_
+#define ISPQ_CLIENT_MESH_FILE_INPUT_H_
+
+#include <string>
+
+#include "absl/status/statusor.h"
+#include "core/tmesh.h"
+#include "ispq/v1/tmesh.pb.h"
+
+namespace ispq::cli {
+
+struct MeshFile {
+  v1::TMesh proto;  // as read, for sending to a server
+  TMesh mesh;       // validated
+};
+
+// The error names the file and the offending element; the caller prints it and exits with
+// kExitInvalidInput.
+absl::StatusOr<MeshFile> LoadMeshFile(const std::string& path);
+
+}  // namespace ispq::cli
+
+#endif  // ISPQ_CLIENT_MESH_FILE_INPUT_H_
