@@ -35,9 +35,6 @@ class FlatLists {
   std::span<const T> operator[](int i) const {
     return {values_.data() + offsets_[i], values_.data() + offsets_[i + 1]};
   }
-  std::span<T> Mutable(int i) {
-    return {values_.data() + offsets_[i], values_.data() + offsets_[i + 1]};
-  }
   std::span<const T> all_values() const { return values_; }
 
  private:

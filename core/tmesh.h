@@ -95,9 +95,6 @@ class TMesh {
   std::span<const HalfarcId> outgoing_halfarcs(NodeId n) const { return node_outgoing_[n]; }
   bool node_critical(NodeId n) const { return node_critical_[n] != 0; }
   bool node_feature(NodeId n) const { return node_feature_[n] != 0; }
-  bool node_boundary(NodeId n) const { return node_boundary_[n] != 0; }
-  SingularType node_singular_type(NodeId n) const { return node_singular_type_[n]; }
-  FeatureType node_feature_type(NodeId n) const { return node_feature_type_[n]; }
   // Blocks whose boundary contains n, ascending.
   std::span<const BlockId> node_blocks(NodeId n) const { return node_blocks_[n]; }
   // Halfpatches whose cycle passes through n, ascending.
@@ -173,7 +170,6 @@ class TMesh {
   NodeId entity_node_to(EntityId e) const { return entity_nodes_[e][1]; }
   std::span<const HalfarcId> entity_halfarcs(EntityId e) const { return entity_halfarcs_[e]; }
   std::span<const PatchId> entity_patches(EntityId e) const { return entity_patches_[e]; }
-  std::span<const ArcId> entity_boundary_arcs(EntityId e) const { return entity_boundary_arcs_[e]; }
 
   // ---- Resolution levels (format section 9), in file order ----
   std::span<const Level> levels() const { return levels_; }
@@ -185,9 +181,7 @@ class TMesh {
   bool features_present_ = false;
 
   FlatLists<HalfarcId> node_outgoing_;
-  std::vector<uint8_t> node_critical_, node_feature_, node_boundary_;
-  std::vector<SingularType> node_singular_type_;
-  std::vector<FeatureType> node_feature_type_;
+  std::vector<uint8_t> node_critical_, node_feature_;
   FlatLists<BlockId> node_blocks_;
   FlatLists<HalfpatchId> node_halfpatches_;
 
@@ -218,7 +212,6 @@ class TMesh {
   std::vector<std::array<NodeId, 2>> entity_nodes_;
   FlatLists<HalfarcId> entity_halfarcs_;
   FlatLists<PatchId> entity_patches_;
-  FlatLists<ArcId> entity_boundary_arcs_;
 
   std::vector<Level> levels_;
 };

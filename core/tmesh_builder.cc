@@ -32,9 +32,6 @@ void TMeshBuilder::SizeArrays() {
   const int n = sizes_.nodes, a = sizes_.arcs, p = sizes_.patches;
   mesh_.node_critical_.resize(n);
   mesh_.node_feature_.resize(n);
-  mesh_.node_boundary_.resize(n);
-  mesh_.node_singular_type_.resize(n);
-  mesh_.node_feature_type_.resize(n);
   mesh_.arc_from_.resize(a);
   mesh_.arc_to_.resize(a);
   mesh_.arc_length_.resize(a);
@@ -77,9 +74,6 @@ absl::Status TMeshBuilder::AddNode(const NodeInput& node) {
   mesh_.node_outgoing_.Append(node.outgoing_halfarcs);
   mesh_.node_critical_[n] = node.critical;
   mesh_.node_feature_[n] = node.feature;
-  mesh_.node_boundary_[n] = node.boundary;
-  mesh_.node_singular_type_[n] = node.singular_type;
-  mesh_.node_feature_type_[n] = node.feature_type;
   Advance(n + 1, sizes_.nodes);
   return absl::OkStatus();
 }
@@ -213,7 +207,6 @@ absl::Status TMeshBuilder::DeriveCriticalEntities(std::span<const CriticalEntity
     mesh_.entity_nodes_.push_back({entity.node_from, entity.node_to});
     mesh_.entity_halfarcs_.Append(entity.halfarcs);
     mesh_.entity_patches_.Append(entity.patches);
-    mesh_.entity_boundary_arcs_.Append(entity.boundary_arcs);
   }
   stage_ = Stage::kLevels;
   return absl::OkStatus();
