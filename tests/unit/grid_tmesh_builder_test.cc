@@ -20,6 +20,7 @@
 #include "google/protobuf/util/message_differencer.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"
+#include "tests/support/worked_examples.h"
 
 namespace ispq::testing {
 namespace {

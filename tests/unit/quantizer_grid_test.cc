@@ -17,6 +17,7 @@
 #include "tests/support/enumerated_optimum.h"
 #include "tests/support/grid_tmesh_builder.h"
 #include "tests/support/test_data.h"
+#include "tests/support/worked_examples.h"
 
 namespace ispq {
 namespace {
