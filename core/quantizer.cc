@@ -94,8 +94,8 @@ absl::Status ReconcileBound(QuantizeResult& result) {
     return absl::OkStatus();
   }
   if (*result.lower_bound > objective + 1e-7 * (1 + std::abs(objective))) {
-    return absl::InternalError(absl::StrCat("lower bound ", *result.lower_bound,
-                                            " is above the objective ", objective));
+    return absl::InternalError(
+        absl::StrCat("lower bound ", *result.lower_bound, " is above the objective ", objective));
   }
   result.lower_bound = std::min(*result.lower_bound, objective);
   return absl::OkStatus();

@@ -7,6 +7,11 @@
 // The search is integer arithmetic on flat arrays; one instance precomputes everything that
 // depends on the mesh alone and reuses its scratch buffers across calls, so one instance serves
 // one thread.
+//
+// Why one file of ~600 lines: the walk, its heap order, the fan of candidate moves and the
+// admissibility test share one set of invariants (separation.md sections 3-4) and one scratch
+// state; the parts that stand alone are already apart (start configurations, neighbourhoods of
+// halfarcs, block node positions, integer boxes).
 #ifndef ISPQ_CORE_SEPARATION_SEARCH_H_
 #define ISPQ_CORE_SEPARATION_SEARCH_H_
 
