@@ -54,6 +54,7 @@
 #include "grpcpp/server.h"
 #include "server/authenticator.h"
 #include "server/job_scheduler.h"
+#include "server/job_store.h"
 #include "server/memory_admission.h"
 #include "server/memory_budget.h"
 #include "server/mesh_store.h"
@@ -82,7 +83,7 @@ class QuantizerServer {
   void Shutdown();
 
  private:
-  explicit QuantizerServer(const ServerConfig& config);
+  QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> store);
 
   // Whether a new job would be accepted now (server/readiness_monitor.h).
   bool Ready() const;
