@@ -357,9 +357,20 @@ std::optional<JobClaims::Claim> PostgresJobStore::ClaimNext() {
 
 void PostgresJobStore::Adopt(std::shared_ptr<Job> runner) {
   runner->SetEventSink(recorder_);
-  absl::MutexLock lock(&mutex_);
-  EraseExpired(local_);
-  local_[runner->id()] = runner;
+  {
+    absl::MutexLock lock(&mutex_);
+    EraseExpired(local_);
+    local_[runner->id()] = runner;
+  }
+  // A cancellation between the claim and the registration above notified nobody here: look.
+  bool cancel_requested = false;
+  const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
+    pqxx::work work(connection);
+    const pqxx::result rows =
+        work.exec_params("SELECT cancel_requested FROM ispq_jobs WHERE id = $1", runner->id());
+    cancel_requested = !rows.empty() && rows[0][0].as<bool>();
+  });
+  if (status.ok() && cancel_requested) runner->RequestCancel();
 }
 
 void PostgresJobStore::Release(const std::string& id) {
@@ -441,7 +452,10 @@ void PostgresJobStore::OnNotification(const std::string& channel, const std::str
       const auto it = local_.find(payload);
       if (it != local_.end()) local = it->second.lock();
     }
-    if (local != nullptr) local->RequestCancel();
+    if (local != nullptr) {
+      spdlog::info("event=job_cancel_requested job={} from=\"another replica\"", local->name());
+      local->RequestCancel();
+    }
     return;
   }
   // Reconnected: anything may have changed meanwhile.

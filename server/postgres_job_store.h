@@ -86,6 +86,8 @@ class PostgresJobStore final : public JobStore, public JobClaims {
   absl::Duration poll_interval() const override;
 
   const std::string& replica() const { return options_.replica; }
+  // The store's connections, shared with the mesh store (server/postgres_mesh_store.h).
+  const std::shared_ptr<PostgresConnections>& connections() const { return connections_; }
 
  private:
   PostgresJobStore(PostgresJobStoreOptions options,

@@ -10,6 +10,7 @@
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/server_builder.h"
 #include "server/postgres_job_store.h"
+#include "server/postgres_mesh_store.h"
 #include "server/server_credentials.h"
 #include "spdlog/spdlog.h"
 
@@ -47,9 +48,16 @@ SchedulerConfig SchedulerConfigOf(const ServerConfig& config) {
   return scheduler;
 }
 
-// The store --job_store names: null for the in-memory default (the scheduler makes it).
-absl::StatusOr<std::unique_ptr<JobStore>> OpenJobStore(const ServerConfig& config) {
-  if (config.job_store == "memory") return nullptr;
+struct Stores {
+  std::unique_ptr<JobStore> jobs;  // null: the scheduler's in-memory default
+  std::unique_ptr<MeshStore> meshes;
+};
+
+// The stores --job_store names.
+absl::StatusOr<Stores> OpenStores(const ServerConfig& config) {
+  if (config.job_store == "memory") {
+    return Stores{nullptr, std::make_unique<InMemoryMeshStore>(config.max_stored_meshes)};
+  }
   PostgresJobStoreOptions options;
   options.uri = config.job_store;
   options.retention = {.max_finished = config.retain_finished_jobs,
@@ -59,20 +67,23 @@ absl::StatusOr<std::unique_ptr<JobStore>> OpenJobStore(const ServerConfig& confi
   options.connections = config.workers + 6;
   absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
   if (!store.ok()) return store.status();
-  return std::unique_ptr<JobStore>(*std::move(store));
+  auto meshes = std::make_unique<PostgresMeshStore>((*store)->connections(),
+                                                    config.max_stored_meshes, config.max_arcs);
+  return Stores{*std::move(store), std::move(meshes)};
 }
 
 }  // namespace
 
-QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> store)
+QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> jobs,
+                                 std::unique_ptr<MeshStore> meshes)
     : config_(config),
       budget_(config.max_memory_bytes),
-      meshes_(config.max_stored_meshes),
+      meshes_(std::move(meshes)),
       authenticator_(AuthenticationConfigOf(config)),
-      scheduler_(SchedulerConfigOf(config), metrics_, &budget_, std::move(store)),
-      memory_(budget_, scheduler_, meshes_, metrics_),
+      scheduler_(SchedulerConfigOf(config), metrics_, &budget_, std::move(jobs)),
+      memory_(budget_, scheduler_, *meshes_, metrics_),
       service_(ServiceParts{.scheduler = scheduler_,
-                            .meshes = meshes_,
+                            .meshes = *meshes_,
                             .metrics = metrics_,
                             .memory = memory_,
                             .authenticator = authenticator_},
@@ -95,9 +106,10 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
       MakeServerCredentials(config.tls);
   if (!credentials.ok()) return credentials.status();
 
-  absl::StatusOr<std::unique_ptr<JobStore>> store = OpenJobStore(config);
-  if (!store.ok()) return store.status();
-  std::unique_ptr<QuantizerServer> server(new QuantizerServer(config, *std::move(store)));
+  absl::StatusOr<Stores> stores = OpenStores(config);
+  if (!stores.ok()) return stores.status();
+  std::unique_ptr<QuantizerServer> server(
+      new QuantizerServer(config, std::move(stores->jobs), std::move(stores->meshes)));
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;

@@ -83,7 +83,8 @@ class QuantizerServer {
   void Shutdown();
 
  private:
-  QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> store);
+  QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> jobs,
+                  std::unique_ptr<MeshStore> meshes);
 
   // Whether a new job would be accepted now (server/readiness_monitor.h).
   bool Ready() const;
@@ -91,7 +92,7 @@ class QuantizerServer {
   const ServerConfig config_;
   ServerMetrics metrics_;
   MemoryBudget budget_;
-  MeshStore meshes_;
+  std::unique_ptr<MeshStore> meshes_;
   Authenticator authenticator_;
   JobScheduler scheduler_;
   MemoryAdmission memory_;

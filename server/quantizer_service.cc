@@ -252,9 +252,10 @@ void QuantizerService::AdmitCreateMesh(UnaryCall& call, const Principal& princip
     if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
     return call.Fail(mesh.status());
   }
-  std::shared_ptr<const StoredMesh> stored =
-      meshes_.Add(*std::move(mesh), principal.name, absl::Now());
-  const v1::Mesh answer = MeshToProto(*stored);
+  absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
+      meshes_.Add(*std::move(mesh), parsed->message.mesh(), principal.name, absl::Now());
+  if (!stored.ok()) return call.Fail(stored.status());
+  const v1::Mesh answer = MeshToProto(**stored);
   spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),
                QuotedLogValue(answer.owner()), QuotedLogValue(answer.display_name()),
                answer.mesh_stats().arcs());

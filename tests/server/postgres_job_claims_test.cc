@@ -168,3 +168,30 @@ TEST_F(PostgresJobClaimsTest, RefusesAUriThatIsNotPostgres) {
 
 }  // namespace
 }  // namespace ispq::server
+
+namespace ispq::server {
+namespace {
+
+TEST_F(PostgresJobClaimsTest, CancellingARunningJobOnAnotherReplicaInterruptsItsRun) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("running"), "", absl::Now()).ok());
+  std::optional<JobClaims::Claim> claim = a->ClaimNext();
+  ASSERT_TRUE(claim.has_value());
+  std::shared_ptr<Job> runner = Job::Resume(claim->id, NotchJobSpec(), false, claim->create_time,
+                                            claim->next_sequence, nullptr);
+  a->Adopt(runner);
+  ASSERT_TRUE(runner->Start(absl::Now()));
+  std::shared_ptr<Job> mirror = b->Find("running", absl::Now());
+  ASSERT_NE(mirror, nullptr);
+  EXPECT_EQ(mirror->state(), v1::RUNNING);
+  b->Cancel(*mirror, absl::Now());
+  const absl::Time until = absl::Now() + absl::Seconds(5);
+  while (!runner->interrupter().IsInterrupted() && absl::Now() < until) {
+    absl::SleepFor(absl::Milliseconds(10));
+  }
+  EXPECT_TRUE(runner->interrupter().IsInterrupted());
+}
+
+}  // namespace
+}  // namespace ispq::server
