@@ -43,6 +43,9 @@ ABSL_FLAG(bool, progress, true, "show live progress on stderr");
 ABSL_FLAG(std::string, server, "127.0.0.1:50051",
           "ispq-server to use, HOST:PORT (quantize uses it unless --local is given); several "
           "replicas as HOST:PORT,HOST:PORT or a gRPC target such as dns:///NAME:PORT");
+ABSL_FLAG(std::string, health_service, "",
+          "health: the health service to ask: \"\" (liveness) or readiness; exec probes use it "
+          "when TLS is on");
 ABSL_FLAG(std::string, lb_policy, "",
           "how calls spread over the addresses of --server: round_robin or pick_first "
           "(default: gRPC's, pick_first)");
@@ -206,8 +209,8 @@ int RunServerCommand(const std::string& command, const std::vector<char*>& args)
     return ispq::cli::RunListJobs(state, absl::GetFlag(FLAGS_limit), remote);
   }
   if (command == "health") {
-    if (args.size() != 2) return usage("health [--server HOST:PORT]");
-    return ispq::cli::RunHealth(remote);
+    if (args.size() != 2) return usage("health [--server HOST:PORT] [--health_service S]");
+    return ispq::cli::RunHealth(remote, absl::GetFlag(FLAGS_health_service));
   }
   if (command == "server-stats") {
     if (args.size() != 2) return usage("server-stats [--server HOST:PORT]");
