@@ -6,6 +6,9 @@
 // a client with round_robin spreads its calls over the replicas.
 #include <signal.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <set>
@@ -48,7 +51,8 @@ class ReplicasTest : public ::testing::Test {
 
   std::vector<std::string> ReplicaFlags(int workers = 1) const {
     return {absl::StrCat("--job_store=", uri_), absl::StrCat("--workers=", workers),
-            absl::StrCat("--job_lease_seconds=", kLeaseSeconds), "--shutdown_grace_seconds=4"};
+            absl::StrCat("--job_lease_seconds=", kLeaseSeconds), "--shutdown_grace_seconds=4",
+            "--max_queued_jobs=1000"};
   }
 
   // Starts replica `index` (replacing a dead one).
@@ -139,21 +143,30 @@ TEST_F(ReplicasTest, AJobSubmittedToOneReplicaIsWatchedFetchedAndCancelledThroug
 
 TEST_F(ReplicasTest, AKilledReplicasJobsAreRunAgainElsewhereAndNothingIsLost) {
   ASSERT_NO_FATAL_FAILURE(StartReplicas(3));
-  // Jobs of about a second each, so that every replica is busy when one is killed.
+  // 300 jobs submitted round robin: every 25th takes about a second, so that every replica is
+  // busy when one is killed; the others are small.
   const v1::TMesh mesh = MeshTakingSeconds(1.0);
+  constexpr int kLevels[] = {0, 1, 5, 10, 17, 25, 50, 100};
   std::vector<client::QuantizerClient> clients;
   for (size_t i = 0; i < 3; ++i) clients.push_back(Client(i));
   std::vector<std::string> jobs;
-  for (int i = 0; i < 12; ++i) {
-    const absl::StatusOr<v1::Job> job = clients[i % 3].SubmitJob(RequestFor(mesh, 100));
+  std::vector<std::string> long_jobs;
+  std::map<std::string, const v1::TMesh*> mesh_of;
+  for (int i = 0; i < 300; ++i) {
+    const bool long_job = i % 25 == 0;
+    const v1::TMesh& used = long_job ? mesh : NotchMesh();
+    const absl::StatusOr<v1::Job> job =
+        clients[i % 3].SubmitJob(RequestFor(used, long_job ? 100 : kLevels[i % 8]));
     ASSERT_TRUE(job.ok()) << job.status();
     jobs.push_back(job->name());
+    if (long_job) long_jobs.push_back(job->name());
+    mesh_of[job->name()] = &used;
   }
   // Kill replica 0 once it runs a job; its watcher loses the stream.
   std::string victim_job;
   for (const absl::Time until = absl::Now() + absl::Seconds(60);
        victim_job.empty() && absl::Now() < until;) {
-    for (const std::string& job : jobs) {
+    for (const std::string& job : long_jobs) {
       if (replicas_[0]->Log().find(absl::StrCat("event=job_start job=", job)) !=
               std::string::npos &&
           replicas_[0]->Log().find(absl::StrCat("event=job_end job=", job)) == std::string::npos) {
@@ -195,16 +208,73 @@ TEST_F(ReplicasTest, AKilledReplicasJobsAreRunAgainElsewhereAndNothingIsLost) {
   for (const std::string& job : jobs) {
     const absl::StatusOr<v1::Job> done = WaitUntilDone(clients[2], job);
     ASSERT_TRUE(done.ok()) << done.status();
-    ASSERT_NO_FATAL_FAILURE(ExpectSameValidResultEverywhere(job, mesh));
+    ASSERT_NO_FATAL_FAILURE(ExpectSameValidResultEverywhere(job, *mesh_of[job]));
+    ASSERT_TRUE(IsValidResult(*mesh_of[job], done->result())) << job;
   }
   // Exactly the submitted jobs exist: no duplicates, none lost.
   v1::ListJobsRequest list;
-  list.set_page_size(100);
+  list.set_page_size(1000);
   const absl::StatusOr<v1::ListJobsResponse> listed = Client(0).ListJobs(list);
   ASSERT_TRUE(listed.ok()) << listed.status();
   std::set<std::string> names;
   for (const v1::Job& job : listed->jobs()) names.insert(job.name());
   EXPECT_EQ(names, std::set<std::string>(jobs.begin(), jobs.end()));
+  EXPECT_EQ(names.size(), 300u);
+}
+
+// Not a pass/fail bound (2 cores cannot run 3 workers at once): measures and prints what the
+// closing note of issue 10 reports, and checks every result.
+TEST_F(ReplicasTest, MeasuresSubmitLatencyAndThroughputOfOneAndThreeReplicas) {
+  const v1::TMesh& mesh = NotchMesh();  // small jobs: what the replicas add shows
+  double one = 0;                       // jobs per second with one replica
+  double three = 0;                     // and with three
+  auto run = [&](int replicas) {
+    for (auto& replica : replicas_) replica.reset();
+    replicas_.clear();
+    SetUp();  // a fresh database
+    StartReplicas(replicas);
+    std::vector<client::QuantizerClient> clients;
+    for (int i = 0; i < replicas; ++i) clients.push_back(Client(i));
+    const absl::Time start = absl::Now();
+    std::vector<std::string> jobs;
+    double* const jobs_per_second = replicas == 1 ? &one : &three;
+    for (int i = 0; i < 120; ++i) {
+      const absl::StatusOr<v1::Job> job = clients[i % replicas].SubmitJob(RequestFor(mesh, 100));
+      EXPECT_TRUE(job.ok()) << job.status();
+      if (job.ok()) jobs.push_back(job->name());
+    }
+    for (const std::string& job : jobs) {
+      const absl::StatusOr<v1::Job> done = WaitUntilDone(clients[0], job);
+      ASSERT_TRUE(done.ok()) << done.status();
+      EXPECT_TRUE(IsValidResult(mesh, done->result())) << job << " " << done->DebugString();
+    }
+    if (std::getenv("ISPQ_DUMP_LOG")) {
+      std::ofstream(absl::StrCat("/tmp/measure", replicas, ".log")) << replicas_[0]->Log();
+    }
+    *jobs_per_second = jobs.size() / absl::ToDoubleSeconds(absl::Now() - start);
+  };
+  ASSERT_NO_FATAL_FAILURE(run(1));
+  ASSERT_NO_FATAL_FAILURE(run(3));
+  std::cout << "throughput, 120 notch jobs (~25 ms solves), 1 worker per replica: 1 replica " << one
+            << " jobs/s, 3 replicas " << three << " jobs/s (" << 100 * three / (3 * one)
+            << " % of 3x one)\n";
+
+  auto median_submit_ms = [&](const std::vector<std::string>& flags) {
+    std::unique_ptr<ServerProcess> server = StartServerOrFail(flags);
+    client::QuantizerClient client = ClientOf(*server);
+    std::vector<double> latencies;
+    for (int i = 0; i < 40; ++i) {
+      const absl::Time start = absl::Now();
+      EXPECT_TRUE(client.SubmitJob(RequestFor(NotchMesh(), 0)).ok());
+      latencies.push_back(absl::ToDoubleMilliseconds(absl::Now() - start));
+    }
+    std::sort(latencies.begin(), latencies.end());
+    return latencies[latencies.size() / 2];
+  };
+  const double memory_ms = median_submit_ms({"--workers=1"});
+  const double postgres_ms = median_submit_ms(ReplicaFlags());
+  std::cout << "SubmitJob median latency (notch mesh): in-memory " << memory_ms
+            << " ms, PostgreSQL " << postgres_ms << " ms\n";
 }
 
 TEST_F(ReplicasTest, RestartingEveryReplicaKeepsEveryJob) {
