@@ -105,6 +105,10 @@ std::shared_ptr<Job> JobScheduler::Find(const std::string& id) {
   return store_->Find(id, absl::Now());
 }
 
+absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Lookup(const std::string& id) {
+  return store_->Lookup(id, absl::Now());
+}
+
 absl::StatusOr<JobStore::Page> JobScheduler::List(const JobStore::Query& query) {
   return store_->List(query, absl::Now());
 }

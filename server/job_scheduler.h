@@ -55,6 +55,8 @@ class JobScheduler {
   absl::StatusOr<std::shared_ptr<Job>> Submit(JobSpec spec, bool bound_to_call,
                                               const std::string& request = "");
   std::shared_ptr<Job> Find(const std::string& id);
+  // OK(nullptr) for an unknown job, UNAVAILABLE when the store cannot answer.
+  absl::StatusOr<std::shared_ptr<Job>> Lookup(const std::string& id);
   absl::StatusOr<JobStore::Page> List(const JobStore::Query& query);
   // Drops the retained job that ended first, to make room in the memory budget. Never with a
   // shared store: its retained jobs are not in this process's memory.

@@ -41,8 +41,13 @@ class JobStore {
   // cannot be reached.
   virtual absl::StatusOr<std::shared_ptr<Job>> Add(std::shared_ptr<Job> job,
                                                    const std::string& request, absl::Time now) = 0;
-  // nullptr if the job is unknown or no longer retained.
+  // nullptr if the job is unknown or no longer retained (or the store cannot be reached).
   virtual std::shared_ptr<Job> Find(const std::string& id, absl::Time now) = 0;
+  // As Find, but tells an unknown job (OK, nullptr) from a store that cannot answer
+  // (UNAVAILABLE), so that a client is never told a job does not exist when it may.
+  virtual absl::StatusOr<std::shared_ptr<Job>> Lookup(const std::string& id, absl::Time now) {
+    return Find(id, now);
+  }
 
   struct Query {
     int page_size = 0;  // 0: the default; clamped to the maximum

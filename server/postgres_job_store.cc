@@ -138,8 +138,11 @@ absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::Add(std::shared_ptr<Job> 
       return absl::AlreadyExistsError(absl::StrCat("request_id ", spec.request_id,
                                                    " was already used for a different request"));
     }
-    std::shared_ptr<Job> earlier = LoadMirror(*existing, now);
-    if (earlier == nullptr) return absl::UnavailableError("the job store lost a job; retry");
+    absl::StatusOr<std::shared_ptr<Job>> earlier = LoadMirror(*existing, now);
+    if (!earlier.ok()) return earlier.status();
+    if (*earlier == nullptr) {
+      return absl::UnavailableError("the job of this request_id ended meanwhile; retry");
+    }
     return earlier;
   }
   job->SetEventSink(recorder_);
@@ -149,14 +152,16 @@ absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::Add(std::shared_ptr<Job> 
   return job;
 }
 
-std::shared_ptr<Job> PostgresJobStore::LoadMirror(const std::string& id, absl::Time now) {
+absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::LoadMirror(const std::string& id,
+                                                                  absl::Time now) {
   std::optional<StoredJob> stored;
   const absl::Time retained_since = now - options_.retention.max_age;
   auto load = [&](pqxx::connection& connection) {
     pqxx::work work(connection);
     stored = LoadStoredJob(work, id, retained_since);
   };
-  if (!connections_->Run(load).ok() || !stored.has_value()) return nullptr;
+  if (absl::Status loaded = connections_->Run(load); !loaded.ok()) return loaded;
+  if (!stored.has_value()) return nullptr;
   std::shared_ptr<Job> mirror;
   bool created = false;
   {
@@ -186,6 +191,12 @@ std::shared_ptr<Job> PostgresJobStore::LoadMirror(const std::string& id, absl::T
 }
 
 std::shared_ptr<Job> PostgresJobStore::Find(const std::string& id, absl::Time now) {
+  absl::StatusOr<std::shared_ptr<Job>> mirror = LoadMirror(id, now);
+  return mirror.ok() ? *std::move(mirror) : nullptr;
+}
+
+absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::Lookup(const std::string& id,
+                                                              absl::Time now) {
   return LoadMirror(id, now);
 }
 
@@ -433,7 +444,7 @@ void PostgresJobStore::Refresh(const std::string& id) {
     const auto it = mirrors_.find(id);
     if (it == mirrors_.end() || it->second.expired()) return;
   }
-  LoadMirror(id, absl::Now());
+  LoadMirror(id, absl::Now()).IgnoreError();  // a failed refresh waits for the next change
 }
 
 void PostgresJobStore::OnNotification(const std::string& channel, const std::string& payload) {

@@ -68,6 +68,7 @@ class PostgresJobStore final : public JobStore, public JobClaims {
   absl::StatusOr<std::shared_ptr<Job>> Add(std::shared_ptr<Job> job, const std::string& request,
                                            absl::Time now) override;
   std::shared_ptr<Job> Find(const std::string& id, absl::Time now) override;
+  absl::StatusOr<std::shared_ptr<Job>> Lookup(const std::string& id, absl::Time now) override;
   absl::StatusOr<Page> List(const Query& query, absl::Time now) override;
   void Cancel(Job& job, absl::Time now) override;
   bool EvictOldestFinished() override;
@@ -93,8 +94,9 @@ class PostgresJobStore final : public JobStore, public JobClaims {
   PostgresJobStore(PostgresJobStoreOptions options,
                    std::shared_ptr<PostgresConnections> connections);
 
-  // The mirror of `id`, registered so that notifications keep it up to date; nullptr if unknown.
-  std::shared_ptr<Job> LoadMirror(const std::string& id, absl::Time now);
+  // The mirror of `id`, registered so that notifications keep it up to date; nullptr if unknown,
+  // UNAVAILABLE if the database cannot be reached.
+  absl::StatusOr<std::shared_ptr<Job>> LoadMirror(const std::string& id, absl::Time now);
   // Reloads the registered mirror of `id`, if anyone still holds it.
   void Refresh(const std::string& id);
   void OnNotification(const std::string& channel, const std::string& payload);

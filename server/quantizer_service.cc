@@ -313,7 +313,13 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string
                                                                const Principal& principal) {
   absl::StatusOr<std::string> id = ParseResourceName(kJobCollection, name);
   if (!id.ok()) return id.status();
-  std::shared_ptr<Job> job = scheduler_.Find(*id);
+  absl::StatusOr<std::shared_ptr<Job>> found = scheduler_.Lookup(*id);
+  if (!found.ok()) {
+    // Not NOT_FOUND: the job may well exist, and the client should retry.
+    return absl::UnavailableError(
+        absl::StrCat("job ", name, " cannot be looked up now: ", found.status().message()));
+  }
+  std::shared_ptr<Job> job = *std::move(found);
   if (job == nullptr || !principal.CanAccess(job->owner())) {
     return absl::NotFoundError(
         absl::StrCat("job ", name, " not found: never submitted, or ended longer ago than the ",
