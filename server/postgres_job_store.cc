@@ -482,6 +482,12 @@ void PostgresJobStore::OnNotification(const std::string& channel, const std::str
 }
 
 void PostgresJobStore::RenewLeases() {
+  // The runs to check, taken before the renewal: a job claimed after the renewal's snapshot is
+  // leased to us but not renewed this time, and must not be taken for a lost one.
+  std::vector<std::shared_ptr<Job>> running;
+  for (std::shared_ptr<Job>& job : ActiveJobs()) {
+    if (job->state() == v1::RUNNING) running.push_back(std::move(job));
+  }
   std::vector<std::string> renewed;
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
     renewed.clear();
@@ -499,10 +505,10 @@ void PostgresJobStore::RenewLeases() {
     return;
   }
   std::sort(renewed.begin(), renewed.end());
-  for (const std::shared_ptr<Job>& job : ActiveJobs()) {
+  for (const std::shared_ptr<Job>& job : running) {
     // A run whose lease is not ours any more: another replica runs the job; stop duplicating.
-    if (job->state() == v1::RUNNING &&
-        !std::binary_search(renewed.begin(), renewed.end(), job->id())) {
+    // (Its records are refused anyway: they need the lease.)
+    if (!job->done() && !std::binary_search(renewed.begin(), renewed.end(), job->id())) {
       spdlog::warn("event=job_lease_lost job={}", job->name());
       job->RequestCancel();
     }
