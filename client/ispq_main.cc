@@ -47,7 +47,14 @@ ABSL_FLAG(std::string, out, "", "write the result JSON to this file");
 ABSL_FLAG(std::string, result, "", "result JSON to validate");
 ABSL_FLAG(bool, progress, true, "show live progress on stderr");
 ABSL_FLAG(std::string, server, "127.0.0.1:50051",
-          "ispq-server to use, HOST:PORT (quantize uses it unless --local is given)");
+          "ispq-server to use, HOST:PORT (quantize uses it unless --local is given); several "
+          "replicas as HOST:PORT,HOST:PORT or a gRPC target such as dns:///NAME:PORT");
+ABSL_FLAG(std::string, health_service, "",
+          "health: the health service to ask: \"\" (liveness) or readiness; exec probes use it "
+          "when TLS is on");
+ABSL_FLAG(std::string, lb_policy, "",
+          "how calls spread over the addresses of --server: round_robin or pick_first "
+          "(default: gRPC's, pick_first)");
 ABSL_FLAG(bool, tls, false, "connect with TLS, verifying the server with the system's roots");
 ABSL_FLAG(std::string, tls_ca, "", "PEM roots that verify the server (implies --tls)");
 ABSL_FLAG(std::string, tls_cert, "", "PEM client certificate for mutual TLS (implies --tls)");
@@ -80,7 +87,8 @@ constexpr char kUsage[] =
     "  ispq jobs [--state STATE] [--limit N] [--json] list the server's jobs\n"
     "  ispq health                                   SERVING (exit 0) or not (exit 6)\n"
     "  ispq server-stats                             the server's counters as JSON\n"
-    "  remote commands take --server HOST:PORT, --tls, --tls-ca F, --tls-cert F --tls-key F,\n"
+    "  remote commands take --server HOST:PORT[,HOST:PORT...] or dns:///NAME:PORT,\n"
+    "  --lb_policy round_robin|pick_first, --tls, --tls-ca F, --tls-cert F --tls-key F,\n"
     "  --auth-token T (or $ISPQ_AUTH_TOKEN) and --deadline SECONDS\n";
 
 // absl flags are identifiers; accept the dashed spellings users type (--time-limit).
@@ -163,6 +171,7 @@ bool QuantizationFromFlags(ispq::v1::QuantizationOptions& q) {
 ispq::cli::RemoteCommandOptions RemoteFromFlags() {
   ispq::cli::RemoteCommandOptions remote;
   remote.connection.address = absl::GetFlag(FLAGS_server);
+  remote.connection.lb_policy = absl::GetFlag(FLAGS_lb_policy);
   remote.connection.tls = absl::GetFlag(FLAGS_tls);
   remote.connection.tls_ca_file = absl::GetFlag(FLAGS_tls_ca);
   remote.connection.tls_cert_file = absl::GetFlag(FLAGS_tls_cert);
@@ -227,8 +236,8 @@ int RunServerCommand(const std::string& command, const std::vector<char*>& args)
     return ispq::cli::RunListJobs(state, absl::GetFlag(FLAGS_limit), remote);
   }
   if (command == "health") {
-    if (args.size() != 2) return usage("health [--server HOST:PORT]");
-    return ispq::cli::RunHealth(remote);
+    if (args.size() != 2) return usage("health [--server HOST:PORT] [--health_service S]");
+    return ispq::cli::RunHealth(remote, absl::GetFlag(FLAGS_health_service));
   }
   if (command == "server-stats") {
     if (args.size() != 2) return usage("server-stats [--server HOST:PORT]");

@@ -6,11 +6,14 @@
 #ifndef ISPQ_CLIENT_SERVER_COMMANDS_H_
 #define ISPQ_CLIENT_SERVER_COMMANDS_H_
 
+#include <string>
+
 #include "client/remote_command_options.h"
 
 namespace ispq::cli {
 
-int RunHealth(const RemoteCommandOptions& options);
+// `service`: "" for liveness, "readiness" for readiness (see the README).
+int RunHealth(const RemoteCommandOptions& options, const std::string& service = "");
 int RunServerStats(const RemoteCommandOptions& options);
 
 }  // namespace ispq::cli

@@ -1,6 +1,8 @@
 #include "client/server_connection.h"
 
 #include "absl/status/status.h"
+#include "absl/strings/match.h"
+#include "absl/strings/str_cat.h"
 #include "core/read_file.h"
 #include "grpcpp/create_channel.h"
 #include "grpcpp/security/credentials.h"
@@ -36,7 +38,47 @@ absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> Credentials(
   return grpc::SslCredentials(options);
 }
 
+// Retries of the idempotent methods on UNAVAILABLE (gRPC's retry policy, A6). SubmitJob and
+// Quantize are not retried by the channel: a lost answer would make a second job (SubmitJob
+// with a request_id can be retried by the caller, see AIP-155 in the README).
+constexpr char kRetryMethods[] = R"json(
+  "methodConfig": [{
+    "name": [
+      {"service": "ispq.v1.Quantizer", "method": "GetJob"},
+      {"service": "ispq.v1.Quantizer", "method": "ListJobs"},
+      {"service": "ispq.v1.Quantizer", "method": "CancelJob"},
+      {"service": "ispq.v1.Quantizer", "method": "WatchJob"},
+      {"service": "ispq.v1.Quantizer", "method": "GetMesh"},
+      {"service": "ispq.v1.Quantizer", "method": "GetServerStats"}
+    ],
+    "retryPolicy": {
+      "maxAttempts": 4,
+      "initialBackoff": "0.1s",
+      "maxBackoff": "2s",
+      "backoffMultiplier": 2,
+      "retryableStatusCodes": ["UNAVAILABLE"]
+    }
+  }])json";
+
+absl::StatusOr<std::string> ServiceConfig(const std::string& lb_policy) {
+  if (lb_policy.empty()) return absl::StrCat("{", kRetryMethods, "}");
+  if (lb_policy != "round_robin" && lb_policy != "pick_first") {
+    return absl::InvalidArgumentError(absl::StrCat("load-balancing policy \"", lb_policy,
+                                                   "\" is not one of round_robin, pick_first"));
+  }
+  return absl::StrCat(R"json({"loadBalancingConfig": [{")json", lb_policy, R"json(": {}}],)json",
+                      kRetryMethods, "}");
+}
+
 }  // namespace
+
+std::string ChannelTarget(const std::string& address) {
+  if (!absl::StrContains(address, ',') || absl::StrContains(address, ":/") ||
+      absl::StartsWith(address, "ipv4:") || absl::StartsWith(address, "ipv6:")) {
+    return address;
+  }
+  return absl::StrCat(absl::StartsWith(address, "[") ? "ipv6:" : "ipv4:", address);
+}
 
 absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnection& connection) {
   if (connection.address.empty()) return absl::InvalidArgumentError("no server address given");
@@ -45,7 +87,10 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnectio
   grpc::ChannelArguments arguments;
   arguments.SetMaxReceiveMessageSize(kMaxReceiveMessageBytes);
   arguments.SetMaxSendMessageSize(-1);  // the server enforces its own limit
-  return grpc::CreateCustomChannel(connection.address, *credentials, arguments);
+  absl::StatusOr<std::string> service_config = ServiceConfig(connection.lb_policy);
+  if (!service_config.ok()) return service_config.status();
+  arguments.SetServiceConfigJSON(*service_config);
+  return grpc::CreateCustomChannel(ChannelTarget(connection.address), *credentials, arguments);
 }
 
 }  // namespace ispq::client

@@ -12,7 +12,14 @@
 namespace ispq::client {
 
 struct ServerConnection {
-  std::string address = "127.0.0.1:50051";  // HOST:PORT, or any gRPC target URI
+  // HOST:PORT; several as HOST:PORT,HOST:PORT (one channel over all of them); or any gRPC
+  // target URI, e.g. dns:///ispq-server-headless.ispq.svc:50051 (every address the name
+  // resolves to, re-resolved when a connection ends).
+  std::string address = "127.0.0.1:50051";
+  // gRPC's load-balancing policy over the target's addresses: "pick_first" (gRPC's default: one
+  // connection, to the first address that works) or "round_robin" (a connection to every
+  // address, calls spread over them in turn). Empty: gRPC's default.
+  std::string lb_policy;
   // TLS: on if `tls` or any file below is set. Without tls_ca the system's roots verify the
   // server.
   bool tls = false;
@@ -27,8 +34,16 @@ struct ServerConnection {
   }
 };
 
-// The channel (connected lazily by gRPC). INVALID_ARGUMENT or NOT_FOUND for unusable TLS files.
+// The channel (connected lazily by gRPC), with `lb_policy` and a retry policy: idempotent calls
+// (GetJob, ListJobs, CancelJob, GetMesh, GetServerStats, WatchJob before its first event) that
+// meet UNAVAILABLE, such as a replica going away, are retried up to 3 more times with backoff,
+// on another address under round_robin. INVALID_ARGUMENT for an unknown policy, INVALID_ARGUMENT
+// or NOT_FOUND for unusable TLS files.
 absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnection& connection);
+
+// The gRPC target for `address`: HOST:PORT,HOST:PORT becomes ipv4:/ipv6: address lists (gRPC
+// takes a bare comma-separated list as one DNS name); anything else is returned as is.
+std::string ChannelTarget(const std::string& address);
 
 }  // namespace ispq::client
 

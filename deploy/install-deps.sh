@@ -10,6 +10,9 @@ PACKAGES=(
   python3 python3-matplotlib  # the benchmark report (tests/bench/report) draws its plots with it
   openssl  # the service's TLS integration tests make their certificates with it
   clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tests/fuzz
+  libpqxx-dev  # the PostgreSQL job store (--job_store=postgresql://...)
+  postgresql   # started by the tests of that store in a temporary directory
+  yamllint     # checks the Kubernetes manifests (tests/deploy)
 )
 
 missing=()

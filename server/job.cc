@@ -13,17 +13,38 @@ google::protobuf::Timestamp ToTimestamp(absl::Time time) {
   return google::protobuf::util::TimeUtil::NanosecondsToTimestamp(absl::ToUnixNanos(time));
 }
 
+absl::Time FromTimestamp(const google::protobuf::Timestamp& timestamp) {
+  return absl::FromUnixNanos(google::protobuf::util::TimeUtil::TimestampToNanoseconds(timestamp));
+}
+
+// The descriptive part of a stored job's spec, for a mirror, which has no mesh.
+JobSpec MirrorSpec(const v1::Job& summary) {
+  JobSpec spec;
+  spec.mesh_stats = summary.mesh_stats();
+  spec.stored_mesh = summary.stored_mesh();
+  spec.requested_options = summary.options();
+  spec.options.scaling = summary.scaling();
+  spec.owner = summary.owner();
+  spec.request_id = summary.request_id();
+  return spec;
+}
+
 }  // namespace
 
-Job::Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now,
-         MemoryBudget* budget)
+Job::Job(std::string id, JobSpec spec, std::string mesh_display_name, bool bound_to_call,
+         absl::Time create_time, MemoryBudget* budget)
     : id_(std::move(id)),
       name_(ResourceName(kJobCollection, id_)),
       spec_(std::move(spec)),
-      mesh_display_name_(spec_.mesh->name()),
+      mesh_display_name_(std::move(mesh_display_name)),
       bound_to_call_(bound_to_call),
-      create_time_(now),
-      budget_(budget) {
+      create_time_(create_time),
+      budget_(budget) {}
+
+Job::Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, absl::Time now,
+         MemoryBudget* budget)
+    : Job(std::move(id), std::move(spec), std::string(), bound_to_call, now, budget) {
+  mesh_display_name_ = spec_.mesh->name();
   v1::QuantizeEvent event = NewEvent(now);
   v1::JobAccepted* accepted = event.mutable_accepted();
   *accepted->mutable_mesh_stats() = spec_.mesh_stats;
@@ -31,7 +52,46 @@ Job::Job(std::string id, JobSpec spec, bool bound_to_call, int queue_position, a
   accepted->set_queue_position(queue_position);
   accepted->set_scaling(spec_.options.scaling);
   absl::MutexLock lock(&mutex_);
-  events_.Append(std::move(event));  // no watcher can exist yet
+  events_.Append(std::move(event));  // no watcher or sink can exist yet
+}
+
+std::shared_ptr<Job> Job::Resume(std::string id, JobSpec spec, bool bound_to_call,
+                                 absl::Time create_time, int64_t next_sequence,
+                                 MemoryBudget* budget) {
+  std::string display_name = spec.mesh->name();
+  std::shared_ptr<Job> job(new Job(std::move(id), std::move(spec), std::move(display_name),
+                                   bound_to_call, create_time, budget));
+  absl::MutexLock lock(&job->mutex_);
+  job->events_.ContinueFrom(next_sequence);
+  return job;
+}
+
+std::shared_ptr<Job> Job::Mirror(const v1::Job& summary, std::vector<v1::QuantizeEvent> events) {
+  absl::StatusOr<std::string> id = ParseResourceName(kJobCollection, summary.name());
+  std::shared_ptr<Job> job(new Job(id.ok() ? *id : summary.name(), MirrorSpec(summary),
+                                   summary.mesh_display_name(), summary.bound_to_call(),
+                                   FromTimestamp(summary.create_time()), /*budget=*/nullptr));
+  job->ApplyStored(summary, std::move(events));
+  return job;
+}
+
+void Job::ApplyStored(const v1::Job& summary, std::vector<v1::QuantizeEvent> events) {
+  std::vector<std::shared_ptr<JobWatcher>> watchers;
+  {
+    absl::MutexLock lock(&mutex_);
+    const bool newer = summary.event_count() > events_.emitted() ||
+                       (summary.done() && !end_time_.has_value()) ||
+                       (summary.state() != state_ && !end_time_.has_value() &&
+                        summary.event_count() == events_.emitted());
+    if (!newer) return;
+    state_ = summary.state();
+    if (summary.has_start_time()) start_time_ = FromTimestamp(summary.start_time());
+    if (summary.done()) end_time_ = FromTimestamp(summary.end_time());
+    if (summary.has_latest_progress()) latest_progress_ = summary.latest_progress();
+    events_.Restore(std::move(events), summary.event_count());
+    watchers = LiveWatchersLocked();
+  }
+  Notify(watchers);
 }
 
 v1::QuantizeEvent Job::NewEvent(absl::Time now) const {
@@ -41,8 +101,20 @@ v1::QuantizeEvent Job::NewEvent(absl::Time now) const {
   return event;
 }
 
-std::vector<std::shared_ptr<JobWatcher>> Job::AppendLocked(v1::QuantizeEvent event) {
-  events_.Append(std::move(event));
+Job::Appended Job::AppendLocked(v1::QuantizeEvent event) {
+  const int64_t sequence = events_.Append(std::move(event));
+  Appended appended;
+  if (sink_ != nullptr) appended.to_record = *events_.FirstAtOrAfter(sequence);
+  appended.watchers = LiveWatchersLocked();
+  return appended;
+}
+
+void Job::Deliver(Appended appended) {
+  if (appended.to_record.has_value()) sink_->Record(*this, &*appended.to_record);
+  Notify(appended.watchers);
+}
+
+std::vector<std::shared_ptr<JobWatcher>> Job::LiveWatchersLocked() {
   std::vector<std::shared_ptr<JobWatcher>> live;
   live.reserve(watchers_.size());
   std::erase_if(watchers_, [&live](const std::weak_ptr<JobWatcher>& weak) {
@@ -54,8 +126,7 @@ std::vector<std::shared_ptr<JobWatcher>> Job::AppendLocked(v1::QuantizeEvent eve
   return live;
 }
 
-std::vector<std::shared_ptr<JobWatcher>> Job::EndLocked(v1::JobState state, absl::Time now,
-                                                        v1::QuantizeEvent terminal) {
+Job::Appended Job::EndLocked(v1::JobState state, absl::Time now, v1::QuantizeEvent terminal) {
   state_ = state;
   end_time_ = now;
   if (budget_ != nullptr) {
@@ -74,62 +145,65 @@ void Job::Notify(const std::vector<std::shared_ptr<JobWatcher>>& watchers) {
 }
 
 bool Job::Start(absl::Time now) {
-  absl::MutexLock lock(&mutex_);
-  if (cancel_requested_ || state_ != v1::QUEUED) return false;
-  state_ = v1::RUNNING;
-  start_time_ = now;
+  {
+    absl::MutexLock lock(&mutex_);
+    if (cancel_requested_ || state_ != v1::QUEUED) return false;
+    state_ = v1::RUNNING;
+    start_time_ = now;
+  }
+  if (sink_ != nullptr) sink_->Record(*this, nullptr);
   return true;
 }
 
 void Job::PublishProgress(const v1::Progress& progress) {
   v1::QuantizeEvent event = NewEvent(absl::Now());
   *event.mutable_progress() = progress;
-  std::vector<std::shared_ptr<JobWatcher>> watchers;
+  Appended appended;
   {
     absl::MutexLock lock(&mutex_);
     latest_progress_ = progress;
-    watchers = AppendLocked(std::move(event));
+    appended = AppendLocked(std::move(event));
   }
-  Notify(watchers);
+  Deliver(std::move(appended));
 }
 
 void Job::PublishIntermediate(v1::IntermediateQuantization intermediate) {
   v1::QuantizeEvent event = NewEvent(absl::Now());
   *event.mutable_intermediate() = std::move(intermediate);
-  std::vector<std::shared_ptr<JobWatcher>> watchers;
+  Appended appended;
   {
     absl::MutexLock lock(&mutex_);
-    watchers = AppendLocked(std::move(event));
+    appended = AppendLocked(std::move(event));
   }
-  Notify(watchers);
+  Deliver(std::move(appended));
 }
 
 void Job::FinishWithResult(v1::QuantizationResult result, absl::Time now) {
   const bool interrupted = result.termination() == v1::INTERRUPTED;
   v1::QuantizeEvent event = NewEvent(now);
   *event.mutable_result() = std::move(result);
-  std::vector<std::shared_ptr<JobWatcher>> watchers;
+  Appended appended;
   {
     absl::MutexLock lock(&mutex_);
     if (end_time_.has_value()) return;
-    watchers = EndLocked(interrupted && cancel_requested_ ? v1::CANCELLED : v1::SUCCEEDED, now,
+    appended = EndLocked(interrupted && cancel_requested_ ? v1::CANCELLED : v1::SUCCEEDED, now,
                          std::move(event));
   }
-  Notify(watchers);
+  Deliver(std::move(appended));
 }
 
 void Job::FinishWithError(const absl::Status& status, absl::Time now) {
   v1::QuantizeEvent event = NewEvent(now);
   event.mutable_error()->set_code(static_cast<int32_t>(status.code()));
   event.mutable_error()->set_message(std::string(status.message()));
-  std::vector<std::shared_ptr<JobWatcher>> watchers;
+  Appended appended;
   {
     absl::MutexLock lock(&mutex_);
     if (end_time_.has_value()) return;
-    watchers =
+    appended =
         EndLocked(absl::IsCancelled(status) ? v1::CANCELLED : v1::FAILED, now, std::move(event));
   }
-  Notify(watchers);
+  Deliver(std::move(appended));
 }
 
 void Job::RequestCancel() {

@@ -10,6 +10,12 @@
 // reads the mesh, and only while it runs), so the finished jobs the store retains hold their
 // result and a few events, no mesh; with a memory budget, the job then accounts for what it
 // retains (server/job_memory.h) until it is destroyed.
+//
+// With a durable store (server/postgres_job_store.h) a job object is one of three views of a
+// stored job: the one its replica created (New), which the store records through its event sink;
+// a job a replica claimed from the store and runs (Resume), recorded the same way; or a mirror
+// (Mirror) that answers lookups and feeds watchers on any replica and changes only by
+// ApplyStored, with what the store says.
 #ifndef ISPQ_SERVER_JOB_H_
 #define ISPQ_SERVER_JOB_H_
 
@@ -26,6 +32,7 @@
 #include "core/solve_interrupter.h"
 #include "ispq/v1/service.pb.h"
 #include "server/job_event_log.h"
+#include "server/job_event_sink.h"
 #include "server/job_spec.h"
 #include "server/memory_budget.h"
 
@@ -48,6 +55,23 @@ class Job {
       MemoryBudget* budget = nullptr);
   Job(const Job&) = delete;
   Job& operator=(const Job&) = delete;
+
+  // A job claimed from a durable store to be run here: `spec` re-admitted from the stored
+  // request. Emits no accepted event (the store has it); its events are numbered from
+  // `next_sequence` on, after those its watchers may have seen from an earlier run.
+  static std::shared_ptr<Job> Resume(std::string id, JobSpec spec, bool bound_to_call,
+                                     absl::Time create_time, int64_t next_sequence,
+                                     MemoryBudget* budget);
+  // A view of a stored job, which may run on another replica: `summary` is the job as GetJob
+  // would answer it without result, `events` its kept events in order. Has no mesh, never runs.
+  static std::shared_ptr<Job> Mirror(const v1::Job& summary, std::vector<v1::QuantizeEvent> events);
+  // Takes over a newer stored state of a mirror and wakes its watchers; an older or equal one
+  // (fewer events emitted, and no end where this one has none) is ignored, so that refreshes
+  // may arrive in any order.
+  void ApplyStored(const v1::Job& summary, std::vector<v1::QuantizeEvent> events);
+
+  // Reports every later change to `sink`. Call before the job is shared with other threads.
+  void SetEventSink(std::shared_ptr<JobEventSink> sink) { sink_ = std::move(sink); }
 
   const std::string& id() const { return id_; }
   const std::string& name() const { return name_; }
@@ -97,26 +121,36 @@ class Job {
   void AddWatcher(std::weak_ptr<JobWatcher> watcher);
 
  private:
+  // Without the accepted event (Resume and Mirror add what the store has instead).
+  Job(std::string id, JobSpec spec, std::string mesh_display_name, bool bound_to_call,
+      absl::Time create_time, MemoryBudget* budget);
+
   v1::QuantizeEvent NewEvent(absl::Time now) const;
-  // Appends under the lock and returns the watchers to notify once it is released.
-  std::vector<std::shared_ptr<JobWatcher>> AppendLocked(v1::QuantizeEvent event)
+  // What an append leaves to do once the lock is released: record the event, wake watchers.
+  struct Appended {
+    std::vector<std::shared_ptr<JobWatcher>> watchers;
+    std::optional<v1::QuantizeEvent> to_record;  // set when the job has a sink
+  };
+  Appended AppendLocked(v1::QuantizeEvent event) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  std::vector<std::shared_ptr<JobWatcher>> LiveWatchersLocked()
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  void Deliver(Appended appended);
   static void Notify(const std::vector<std::shared_ptr<JobWatcher>>& watchers);
 
   // Ends the job: state, end time, the terminal event, and the mesh let go.
-  std::vector<std::shared_ptr<JobWatcher>> EndLocked(v1::JobState state, absl::Time now,
-                                                     v1::QuantizeEvent terminal)
+  Appended EndLocked(v1::JobState state, absl::Time now, v1::QuantizeEvent terminal)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const std::string id_;
   const std::string name_;
   // Written once more after construction, by EndLocked, when no worker reads it any more.
   JobSpec spec_;
-  const std::string mesh_display_name_;
+  std::string mesh_display_name_;  // set by the constructors, read-only after
   const bool bound_to_call_;
   const absl::Time create_time_;
   MemoryBudget* const budget_;
   SolveInterrupter interrupter_;
+  std::shared_ptr<JobEventSink> sink_;  // set before the job is shared, read-only after
 
   mutable absl::Mutex mutex_;
   v1::JobState state_ ABSL_GUARDED_BY(mutex_) = v1::QUEUED;

@@ -39,4 +39,9 @@ bool JobEventLog::ended() const {
   return kind == v1::QuantizeEvent::kResult || kind == v1::QuantizeEvent::kError;
 }
 
+void JobEventLog::Restore(std::vector<v1::QuantizeEvent> kept, int64_t emitted) {
+  kept_ = std::move(kept);
+  next_sequence_ = emitted;
+}
+
 }  // namespace ispq::server

@@ -32,6 +32,13 @@ class JobEventLog {
   // Whether the last event was terminal (a result or an error).
   bool ended() const;
 
+  // Replaces everything with events read back from a store (server/job_store.h): `kept` in
+  // increasing sequence order, `emitted` the number the next event would get.
+  void Restore(std::vector<v1::QuantizeEvent> kept, int64_t emitted);
+  // Numbers the next events from `next_sequence` on: a job run again after its first run was
+  // lost continues the numbering its watchers have seen.
+  void ContinueFrom(int64_t next_sequence) { next_sequence_ = next_sequence; }
+
  private:
   std::vector<v1::QuantizeEvent> kept_;  // increasing sequence numbers
   int64_t next_sequence_ = 0;

@@ -35,6 +35,20 @@ std::shared_ptr<Job> JobQueue::Pop() {
   return job;
 }
 
+std::shared_ptr<Job> JobQueue::TryPop() {
+  absl::MutexLock lock(&mutex_);
+  if (waiting_.empty()) return nullptr;
+  std::shared_ptr<Job> job = std::move(waiting_.front());
+  waiting_.pop_front();
+  ++held_;
+  return job;
+}
+
+void JobQueue::Hold() {
+  absl::MutexLock lock(&mutex_);
+  ++held_;
+}
+
 void JobQueue::MarkDone() {
   absl::MutexLock lock(&mutex_);
   --held_;

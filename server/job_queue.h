@@ -15,10 +15,11 @@
 #include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
 #include "server/job.h"
+#include "server/job_source.h"
 
 namespace ispq::server {
 
-class JobQueue {
+class JobQueue final : public JobSource {
  public:
   explicit JobQueue(int capacity);
 
@@ -27,8 +28,17 @@ class JobQueue {
   // Blocks until a job is waiting (returned, and counted as held) or the queue is closed and
   // empty (nullptr).
   std::shared_ptr<Job> Pop();
-  // A worker has finished with a job it popped.
+  // A worker has finished with a job it popped (or held).
   void MarkDone();
+  // The first waiting job, counted as held, or nullptr at once if none is waiting.
+  std::shared_ptr<Job> TryPop();
+  // Counts a job that a worker got elsewhere (claimed from a shared store) as held, so that
+  // WaitUntilIdle waits for it too.
+  void Hold();
+
+  // JobSource: Pop and MarkDone.
+  std::shared_ptr<Job> Next() override { return Pop(); }
+  void Done() override { MarkDone(); }
   // Takes `job` out of the queue; false if it was not waiting (already popped, or never queued).
   bool Remove(const Job& job);
 

@@ -7,6 +7,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
+#include "server/in_memory_job_store.h"
 #include "server/resource_names.h"
 #include "server/retry_hint.h"
 #include "spdlog/spdlog.h"
@@ -18,23 +19,72 @@ constexpr absl::Duration kMinRetryHint = absl::Milliseconds(100);
 constexpr absl::Duration kMaxRetryHint = absl::Seconds(60);
 constexpr absl::Duration kRetryHintWithoutHistory = absl::Seconds(1);
 
+std::unique_ptr<JobStore> OrInMemory(std::unique_ptr<JobStore> store,
+                                     const RetentionPolicy& retention) {
+  if (store != nullptr) return store;
+  return std::make_unique<InMemoryJobStore>(retention);
+}
+
+JobSource& SourceOf(JobQueue& queue, std::unique_ptr<JobClaimer>& claimer) {
+  if (claimer != nullptr) return *claimer;
+  return queue;
+}
+
 }  // namespace
 
 JobScheduler::JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics,
-                           MemoryBudget* budget)
+                           MemoryBudget* budget, std::unique_ptr<JobStore> store)
     : metrics_(metrics),
       budget_(budget),
-      store_(config.retention),
+      store_(OrInMemory(std::move(store), config.retention)),
+      claims_(store_->shared() ? dynamic_cast<JobClaims*>(store_.get()) : nullptr),
       queue_(config.max_queued_jobs),
-      pool_(config.workers, queue_, metrics) {}
+      claimer_(claims_ != nullptr ? std::make_unique<JobClaimer>(queue_, *claims_, budget)
+                                  : nullptr),
+      pool_(config.workers, SourceOf(queue_, claimer_), metrics) {
+  if (claimer_ != nullptr) {
+    claims_->OnClaimable([claimer = claimer_.get()] { claimer->Wake(); });
+  }
+}
+
+void JobScheduler::EnableClaiming(JobClaimer::Readmit readmit) {
+  if (claimer_ != nullptr) claimer_->EnableClaiming(std::move(readmit));
+}
 
 JobScheduler::~JobScheduler() {
   // Workers exit once the queue is closed and empty; jobs still waiting end as at shutdown.
   StopAccepting();
 }
 
-absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Submit(JobSpec spec, bool bound_to_call) {
+absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Submit(JobSpec spec, bool bound_to_call,
+                                                          const std::string& request) {
   const absl::Time now = absl::Now();
+  if (queue_.closed()) {
+    return absl::UnavailableError("the server is shutting down and accepts no jobs");
+  }
+  if (store_->shared()) {
+    // Queued in the store for any replica, or (call-bound) here.
+    const int waiting = bound_to_call ? queue_.waiting() : claims_->QueuedCount();
+    if (waiting >= queue_.capacity()) {
+      metrics_.RecordRejectedQueueFull();
+      return ResourceExhaustedWithRetryHint(
+          absl::StrCat("the job queue is full (", queue_.capacity(), " jobs waiting)"),
+          RetryHint());
+    }
+    auto job = std::make_shared<Job>(NewResourceId(), std::move(spec), bound_to_call,
+                                     std::max(waiting, 0), now, budget_);
+    absl::StatusOr<std::shared_ptr<Job>> recorded = store_->Add(job, request, now);
+    if (!recorded.ok() || *recorded != job) return recorded;  // refused, or a retry's job
+    if (bound_to_call) {
+      if (absl::Status pushed = queue_.Push(job); !pushed.ok()) {
+        job->FinishWithError(pushed, absl::Now());
+        return pushed;
+      }
+    }
+    claimer_->Wake();
+    metrics_.RecordAccepted();
+    return job;
+  }
   auto job = std::make_shared<Job>(NewResourceId(), std::move(spec), bound_to_call,
                                    queue_.waiting(), now, budget_);
   if (absl::Status pushed = queue_.Push(job); !pushed.ok()) {
@@ -44,22 +94,27 @@ absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Submit(JobSpec spec, bool bou
     }
     return pushed;
   }
-  // The worker may already run it; the store only needs to know it before Submit returns.
-  store_.Add(job, now);
+  // The worker may already run it; the store only needs to know it before Submit returns. The
+  // in-memory store never refuses.
+  store_->Add(job, request, now).IgnoreError();
   metrics_.RecordAccepted();
   return job;
 }
 
 std::shared_ptr<Job> JobScheduler::Find(const std::string& id) {
-  return store_.Find(id, absl::Now());
+  return store_->Find(id, absl::Now());
+}
+
+absl::StatusOr<std::shared_ptr<Job>> JobScheduler::Lookup(const std::string& id) {
+  return store_->Lookup(id, absl::Now());
 }
 
 absl::StatusOr<JobStore::Page> JobScheduler::List(const JobStore::Query& query) {
-  return store_.List(query, absl::Now());
+  return store_->List(query, absl::Now());
 }
 
 void JobScheduler::Cancel(Job& job) {
-  job.RequestCancel();
+  store_->Cancel(job, absl::Now());
   // If it is still waiting, this thread owns ending it; otherwise the worker does.
   if (queue_.Remove(job)) {
     job.FinishWithError(absl::CancelledError("cancelled while queued"), absl::Now());
@@ -86,20 +141,24 @@ void JobScheduler::StopAccepting() {
     spdlog::info("event=job_end job={} state={} reason=\"server shutdown before start\"",
                  job->name(), v1::JobState_Name(job->state()));
   }
+  if (claimer_ != nullptr) claimer_->Wake();  // workers waiting for a claim see the queue closed
 }
 
 bool JobScheduler::WaitUntilIdle(absl::Time deadline) { return queue_.WaitUntilIdle(deadline); }
 
 void JobScheduler::InterruptRunning() {
-  for (const std::shared_ptr<Job>& job : store_.ActiveJobs()) job->RequestCancel();
+  // With a shared store, interrupted jobs go back to it for another replica to run.
+  if (claims_ != nullptr) claims_->BeginDraining();
+  for (const std::shared_ptr<Job>& job : store_->ActiveJobs()) job->RequestCancel();
 }
 
 void JobScheduler::FillStats(v1::ServerStats& stats) const {
   stats.set_workers(pool_.size());
   stats.set_busy_workers(queue_.held());
-  stats.set_queued_jobs(queue_.waiting());
+  stats.set_queued_jobs(claims_ != nullptr ? queue_.waiting() + std::max(claims_->QueuedCount(), 0)
+                                           : queue_.waiting());
   stats.set_max_queued_jobs(queue_.capacity());
-  *stats.mutable_retained_jobs() = store_.CountByState();
+  *stats.mutable_retained_jobs() = store_->CountByState();
 }
 
 }  // namespace ispq::server

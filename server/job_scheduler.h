@@ -1,8 +1,15 @@
 // The job side of the server: admission into the bounded queue, the worker pool that runs jobs,
 // the store that answers about them, cancellation, and the draining steps of graceful shutdown.
 //
-// Ownership: the scheduler owns the store, the queue and the pool; jobs are shared with the
-// streams that watch them. Destruction closes the queue and joins the workers.
+// With the in-memory store, jobs wait in the local bounded queue. With a shared store
+// (server/postgres_job_store.h), jobs submitted with SubmitJob wait in the store and the workers
+// of every replica claim them (server/job_claimer.h); only call-bound Quantize jobs use the local
+// queue, since they run where their call is. `max_queued_jobs` then bounds the jobs waiting in
+// the store for all replicas (checked before each submission, so concurrent submissions on
+// several replicas may pass it by a few).
+//
+// Ownership: the scheduler owns the store, the queue, the claimer and the pool; jobs are shared
+// with the streams that watch them. Destruction closes the queue and joins the workers.
 #ifndef ISPQ_SERVER_JOB_SCHEDULER_H_
 #define ISPQ_SERVER_JOB_SCHEDULER_H_
 
@@ -13,7 +20,9 @@
 #include "absl/time/time.h"
 #include "ispq/v1/service.pb.h"
 #include "server/job.h"
+#include "server/job_claimer.h"
 #include "server/job_queue.h"
+#include "server/job_source.h"
 #include "server/job_spec.h"
 #include "server/job_store.h"
 #include "server/memory_budget.h"
@@ -30,20 +39,32 @@ struct SchedulerConfig {
 
 class JobScheduler {
  public:
-  // `budget` (may be null) accounts for jobs once they have ended (server/job.h).
+  // `budget` (may be null) accounts for jobs once they have ended (server/job.h). `store`:
+  // null for the in-memory store with `config.retention`.
   JobScheduler(const SchedulerConfig& config, ServerMetrics& metrics,
-               MemoryBudget* budget = nullptr);
+               MemoryBudget* budget = nullptr, std::unique_ptr<JobStore> store = nullptr);
   ~JobScheduler();
   JobScheduler(const JobScheduler&) = delete;
   JobScheduler& operator=(const JobScheduler&) = delete;
 
-  // Creates the job and queues it. RESOURCE_EXHAUSTED (with a retry hint, see RetryHint and
-  // server/retry_hint.h) when the queue is full; UNAVAILABLE once shutdown has begun.
-  absl::StatusOr<std::shared_ptr<Job>> Submit(JobSpec spec, bool bound_to_call);
+  // Creates the job, records it in the store and queues it. `request` is the serialized request
+  // (needed by a shared store only, see shared()). Returns the job, or with a shared store the
+  // job an earlier request with the same request_id created (server/job_store.h).
+  // RESOURCE_EXHAUSTED (with a retry hint, see RetryHint and server/retry_hint.h) when the queue
+  // is full; UNAVAILABLE once shutdown has begun or when the store cannot be reached.
+  absl::StatusOr<std::shared_ptr<Job>> Submit(JobSpec spec, bool bound_to_call,
+                                              const std::string& request = "");
   std::shared_ptr<Job> Find(const std::string& id);
+  // OK(nullptr) for an unknown job, UNAVAILABLE when the store cannot answer.
+  absl::StatusOr<std::shared_ptr<Job>> Lookup(const std::string& id);
   absl::StatusOr<JobStore::Page> List(const JobStore::Query& query);
-  // Drops the retained job that ended first, to make room in the memory budget.
-  bool EvictOldestFinished() { return store_.EvictOldestFinished(); }
+  // Drops the retained job that ended first, to make room in the memory budget. Never with a
+  // shared store: its retained jobs are not in this process's memory.
+  bool EvictOldestFinished() { return !store_->shared() && store_->EvictOldestFinished(); }
+  // Whether jobs are kept in a store shared with other replicas.
+  bool shared() const { return store_->shared(); }
+  // With a shared store: starts claiming jobs from it, re-admitted with `readmit`.
+  void EnableClaiming(JobClaimer::Readmit readmit);
   // Ends a queued job at once (CANCELLED) or interrupts a running one; no effect once done.
   void Cancel(Job& job);
 
@@ -70,8 +91,10 @@ class JobScheduler {
  private:
   ServerMetrics& metrics_;
   MemoryBudget* const budget_;
-  JobStore store_;
+  std::unique_ptr<JobStore> store_;
+  JobClaims* const claims_;  // the store's claims if it is shared, else null
   JobQueue queue_;
+  std::unique_ptr<JobClaimer> claimer_;  // with a shared store
   WorkerPool pool_;  // declared last: destroyed (joined) first, while the queue still exists
 };
 

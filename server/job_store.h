@@ -1,22 +1,23 @@
 // Every job the server can answer about: all queued and running jobs, and finished jobs while
 // the retention policy keeps them (at most `max_finished` of them, none older than `max_age`
-// after it ended; the oldest-ended go first). Pruning happens on each access, so no timer thread
-// is needed and memory is bounded by the queue, the workers and the policy; the memory budget
-// may also evict the oldest-ended job early (EvictOldestFinished). Thread-safe.
+// after it ended; the oldest-ended go first). The interface has two implementations:
+//
+//   * InMemoryJobStore (server/in_memory_job_store.h), the default: the job objects of this
+//     process, lost when it exits.
+//   * PostgresJobStore (server/postgres_job_store.h): jobs and their kept events in PostgreSQL,
+//     shared by every replica using the same database; jobs are claimed from it by any replica's
+//     workers under a lease (server/job_claimer.h).
+//
+// Both are thread-safe. Times are passed in, so that retention is testable.
 #ifndef ISPQ_SERVER_JOB_STORE_H_
 #define ISPQ_SERVER_JOB_STORE_H_
 
-#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "absl/base/thread_annotations.h"
-#include "absl/container/btree_map.h"
-#include "absl/container/flat_hash_map.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
 #include "ispq/v1/service.pb.h"
 #include "server/job.h"
@@ -30,11 +31,23 @@ struct RetentionPolicy {
 
 class JobStore {
  public:
-  explicit JobStore(RetentionPolicy policy);
+  virtual ~JobStore() = default;
 
-  void Add(std::shared_ptr<Job> job, absl::Time now);
-  // nullptr if the job is unknown or no longer retained.
-  std::shared_ptr<Job> Find(const std::string& id, absl::Time now);
+  // Records a job just admitted, before it is answered for or run. `request` is the serialized
+  // QuantizeRequest it was admitted from: a shared store keeps it so that any replica can run the
+  // job. Returns the job to answer with: `job` itself, or, for a request_id its owner already
+  // used with the same request fingerprint (JobSpec::request_fingerprint), the job that request
+  // created; ALREADY_EXISTS for the same id with another request; UNAVAILABLE if the store
+  // cannot be reached.
+  virtual absl::StatusOr<std::shared_ptr<Job>> Add(std::shared_ptr<Job> job,
+                                                   const std::string& request, absl::Time now) = 0;
+  // nullptr if the job is unknown or no longer retained (or the store cannot be reached).
+  virtual std::shared_ptr<Job> Find(const std::string& id, absl::Time now) = 0;
+  // As Find, but tells an unknown job (OK, nullptr) from a store that cannot answer
+  // (UNAVAILABLE), so that a client is never told a job does not exist when it may.
+  virtual absl::StatusOr<std::shared_ptr<Job>> Lookup(const std::string& id, absl::Time now) {
+    return Find(id, now);
+  }
 
   struct Query {
     int page_size = 0;  // 0: the default; clamped to the maximum
@@ -51,24 +64,22 @@ class JobStore {
     std::string next_page_token;  // empty on the last page
   };
   // INVALID_ARGUMENT for a negative page size or a token this store did not issue.
-  absl::StatusOr<Page> List(const Query& query, absl::Time now);
+  virtual absl::StatusOr<Page> List(const Query& query, absl::Time now) = 0;
+
+  // Asks the job to stop wherever it runs. A shared store also ends a job still queued in it
+  // (CANCELLED) and tells the replica that runs it; the in-memory store leaves both to the
+  // scheduler, which holds the queue.
+  virtual void Cancel(Job& job, absl::Time now) = 0;
 
   // Drops the finished job that ended first; false if no job has finished.
-  bool EvictOldestFinished();
+  virtual bool EvictOldestFinished() = 0;
 
-  // Jobs that have not ended (queued or running).
-  std::vector<std::shared_ptr<Job>> ActiveJobs() const;
-  v1::JobCounts CountByState() const;
+  // Jobs that have not ended and run or wait on this replica.
+  virtual std::vector<std::shared_ptr<Job>> ActiveJobs() const = 0;
+  virtual v1::JobCounts CountByState() const = 0;
 
- private:
-  void PruneLocked(absl::Time now) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
-
-  const RetentionPolicy policy_;
-  mutable absl::Mutex mutex_;
-  uint64_t next_ordinal_ ABSL_GUARDED_BY(mutex_) = 0;
-  // By admission order, so that listing newest first and page tokens are simple.
-  absl::btree_map<uint64_t, std::shared_ptr<Job>> by_ordinal_ ABSL_GUARDED_BY(mutex_);
-  absl::flat_hash_map<std::string, uint64_t> ordinal_by_id_ ABSL_GUARDED_BY(mutex_);
+  // Whether other replicas share this store: jobs are then claimed from it, not only queued here.
+  virtual bool shared() const = 0;
 };
 
 }  // namespace ispq::server

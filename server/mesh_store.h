@@ -6,6 +6,9 @@
 // naming the evicted mesh gets NOT_FOUND and uploads it again). Each mesh belongs to the
 // principal that created it; the store keeps the owner and leaves access checks to the service.
 // Thread-safe.
+//
+// Two implementations: InMemoryMeshStore below (the default) and PostgresMeshStore
+// (server/postgres_mesh_store.h), which every replica sharing the database sees.
 #ifndef ISPQ_SERVER_MESH_STORE_H_
 #define ISPQ_SERVER_MESH_STORE_H_
 
@@ -15,8 +18,10 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/container/flat_hash_map.h"
+#include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
+#include "ispq/v1/tmesh.pb.h"
 #include "server/mesh_admission.h"
 
 namespace ispq::server {
@@ -30,17 +35,36 @@ struct StoredMesh {
 
 class MeshStore {
  public:
-  explicit MeshStore(int capacity);
+  virtual ~MeshStore() = default;
 
-  // Stores `admitted` under a new id, evicting the least recently used mesh if full.
-  std::shared_ptr<const StoredMesh> Add(AdmittedMesh admitted, std::string owner, absl::Time now);
+  // Stores `admitted` (validated from `proto`) under a new id. UNAVAILABLE if a shared store
+  // cannot be reached.
+  virtual absl::StatusOr<std::shared_ptr<const StoredMesh>> Add(AdmittedMesh admitted,
+                                                                const v1::TMesh& proto,
+                                                                std::string owner,
+                                                                absl::Time now) = 0;
   // The mesh with this id, marked as used; nullptr if unknown or evicted.
-  std::shared_ptr<const StoredMesh> Find(const std::string& id);
+  virtual std::shared_ptr<const StoredMesh> Find(const std::string& id) = 0;
   // Whether a mesh was removed.
-  bool Remove(const std::string& id);
-  // Evicts the least recently used mesh that no job holds; false if there is none.
-  bool EvictLeastRecentlyUsed();
-  int size() const;
+  virtual bool Remove(const std::string& id) = 0;
+  // Evicts the least recently used mesh that no job holds from this process's memory; false if
+  // there is none.
+  virtual bool EvictLeastRecentlyUsed() = 0;
+  virtual int size() const = 0;
+};
+
+// The default: meshes in this process's memory, within the memory budget.
+class InMemoryMeshStore final : public MeshStore {
+ public:
+  explicit InMemoryMeshStore(int capacity);
+
+  absl::StatusOr<std::shared_ptr<const StoredMesh>> Add(AdmittedMesh admitted,
+                                                        const v1::TMesh& proto, std::string owner,
+                                                        absl::Time now) override;
+  std::shared_ptr<const StoredMesh> Find(const std::string& id) override;
+  bool Remove(const std::string& id) override;
+  bool EvictLeastRecentlyUsed() override;
+  int size() const override;
 
  private:
   using Recency = std::list<std::shared_ptr<const StoredMesh>>;  // most recently used first

@@ -9,6 +9,8 @@
 #include "grpcpp/ext/proto_server_reflection_plugin.h"
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/server_builder.h"
+#include "server/postgres_job_store.h"
+#include "server/postgres_mesh_store.h"
 #include "server/server_credentials.h"
 #include "spdlog/spdlog.h"
 
@@ -27,6 +29,10 @@ constexpr int kKeepaliveTimeoutMs = 20 * 1000;
 // work once everything evictable is evicted.
 constexpr int64_t kReadyMemoryFraction = 8;
 
+int SaturatedMilliseconds(absl::Duration duration) {
+  return static_cast<int>(std::min<int64_t>(absl::ToInt64Milliseconds(duration), INT32_MAX));
+}
+
 AuthenticationConfig AuthenticationConfigOf(const ServerConfig& config) {
   return {.tokens = config.auth_tokens,
           .client_certificates = !config.tls.client_ca.empty(),
@@ -42,23 +48,51 @@ SchedulerConfig SchedulerConfigOf(const ServerConfig& config) {
   return scheduler;
 }
 
+struct Stores {
+  std::unique_ptr<JobStore> jobs;  // null: the scheduler's in-memory default
+  std::unique_ptr<MeshStore> meshes;
+};
+
+// The stores --job_store names.
+absl::StatusOr<Stores> OpenStores(const ServerConfig& config) {
+  if (config.job_store == "memory") {
+    return Stores{nullptr, std::make_unique<InMemoryMeshStore>(config.max_stored_meshes)};
+  }
+  PostgresJobStoreOptions options;
+  options.uri = config.job_store;
+  options.retention = {.max_finished = config.retain_finished_jobs,
+                       .max_age = config.retain_finished_time};
+  options.lease = config.job_lease;
+  // Workers record events, gRPC threads look jobs up, plus the lease thread and notifications.
+  options.connections = config.workers + 6;
+  absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
+  if (!store.ok()) return store.status();
+  auto meshes = std::make_unique<PostgresMeshStore>((*store)->connections(),
+                                                    config.max_stored_meshes, config.max_arcs);
+  return Stores{*std::move(store), std::move(meshes)};
+}
+
 }  // namespace
 
-QuantizerServer::QuantizerServer(const ServerConfig& config)
+QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> jobs,
+                                 std::unique_ptr<MeshStore> meshes)
     : config_(config),
       budget_(config.max_memory_bytes),
-      meshes_(config.max_stored_meshes),
+      meshes_(std::move(meshes)),
       authenticator_(AuthenticationConfigOf(config)),
-      scheduler_(SchedulerConfigOf(config), metrics_, &budget_),
-      memory_(budget_, scheduler_, meshes_, metrics_),
+      scheduler_(SchedulerConfigOf(config), metrics_, &budget_, std::move(jobs)),
+      memory_(budget_, scheduler_, *meshes_, metrics_),
       service_(ServiceParts{.scheduler = scheduler_,
-                            .meshes = meshes_,
+                            .meshes = *meshes_,
                             .metrics = metrics_,
                             .memory = memory_,
                             .authenticator = authenticator_},
                JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time},
                AdmissionConfig{.threads = config.admission_threads,
-                               .max_waiting = config.max_waiting_admissions}) {}
+                               .max_waiting = config.max_waiting_admissions}) {
+  scheduler_.EnableClaiming(
+      [this](const JobClaims::Claim& claim) { return service_.Readmit(claim); });
+}
 
 bool QuantizerServer::Ready() const {
   return scheduler_.accepting() && !scheduler_.queue_full() && !service_.admissions_full() &&
@@ -72,7 +106,10 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
       MakeServerCredentials(config.tls);
   if (!credentials.ok()) return credentials.status();
 
-  std::unique_ptr<QuantizerServer> server(new QuantizerServer(config));
+  absl::StatusOr<Stores> stores = OpenStores(config);
+  if (!stores.ok()) return stores.status();
+  std::unique_ptr<QuantizerServer> server(
+      new QuantizerServer(config, std::move(stores->jobs), std::move(stores->meshes)));
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
@@ -81,6 +118,15 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, kKeepaliveTimeMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, kKeepaliveTimeoutMs);
+  if (config.max_connection_age > absl::ZeroDuration()) {
+    // Clients reconnect (and re-resolve a dns:/// target) when a connection reaches this age,
+    // so new replicas get traffic; the grace lets calls in progress, the longest being a stream
+    // of a job at its time limit, finish first.
+    builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_MS,
+                               SaturatedMilliseconds(config.max_connection_age));
+    builder.AddChannelArgument(GRPC_ARG_MAX_CONNECTION_AGE_GRACE_MS,
+                               SaturatedMilliseconds(config.max_job_time + absl::Minutes(1)));
+  }
   server->server_ = builder.BuildAndStart();
   if (server->server_ == nullptr || server->port_ == 0) {
     server->server_.reset();
@@ -94,11 +140,12 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   spdlog::info(
       "event=server_start listen={} port={} workers={} max_queued_jobs={} max_arcs={} "
       "max_message_bytes={} max_memory_bytes={} admission_threads={} max_job_seconds={} tls={} "
-      "client_certificates={} token_principals={} admin_principals={}",
+      "client_certificates={} token_principals={} admin_principals={} job_store={}",
       config.listen_address, server->port_, config.workers, config.max_queued_jobs, config.max_arcs,
       config.max_message_bytes, config.max_memory_bytes, config.admission_threads,
       absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
-      !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size());
+      !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size(),
+      config.job_store == "memory" ? "memory" : "postgresql");
   return server;
 }
 

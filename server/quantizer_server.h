@@ -54,6 +54,7 @@
 #include "grpcpp/server.h"
 #include "server/authenticator.h"
 #include "server/job_scheduler.h"
+#include "server/job_store.h"
 #include "server/memory_admission.h"
 #include "server/memory_budget.h"
 #include "server/mesh_store.h"
@@ -82,7 +83,8 @@ class QuantizerServer {
   void Shutdown();
 
  private:
-  explicit QuantizerServer(const ServerConfig& config);
+  QuantizerServer(const ServerConfig& config, std::unique_ptr<JobStore> jobs,
+                  std::unique_ptr<MeshStore> meshes);
 
   // Whether a new job would be accepted now (server/readiness_monitor.h).
   bool Ready() const;
@@ -90,7 +92,7 @@ class QuantizerServer {
   const ServerConfig config_;
   ServerMetrics metrics_;
   MemoryBudget budget_;
-  MeshStore meshes_;
+  std::unique_ptr<MeshStore> meshes_;
   Authenticator authenticator_;
   JobScheduler scheduler_;
   MemoryAdmission memory_;

@@ -83,7 +83,8 @@ absl::Status QuantizerService::AdmissionPoolFull() const {
 
 absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
     const grpc::CallbackServerContext& context, const Principal& principal,
-    const v1::QuantizeRequest& request, int64_t request_bytes, bool bound_to_call) {
+    const v1::QuantizeRequest& request, int64_t request_bytes, bool bound_to_call,
+    std::string fingerprint) {
   if (!scheduler_.accepting()) {
     return absl::UnavailableError("the server is shutting down and accepts no jobs");
   }
@@ -96,7 +97,12 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
                   QuotedLogValue(std::string(spec.status().message())));
     return spec.status();
   }
-  return scheduler_.Submit(*std::move(spec), bound_to_call);
+  spec->request_fingerprint = std::move(fingerprint);
+  // A shared store keeps the request, so that any replica can run the job (not a call-bound
+  // one: it runs here or not at all).
+  const std::string stored =
+      scheduler_.shared() && !bound_to_call ? request.SerializeAsString() : std::string();
+  return scheduler_.Submit(*std::move(spec), bound_to_call, stored);
 }
 
 grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
@@ -203,12 +209,12 @@ void QuantizerService::AdmitSubmitJob(UnaryCall& call, const Principal& principa
   std::string fingerprint = RequestFingerprint(request);
   request.set_request_id(request_id);
   RequestIds::Decision decision = request_ids_.Begin(
-      principal.name, request_id, std::move(fingerprint),
+      principal.name, request_id, fingerprint,
       [waiting = &call](RequestIds::Outcome outcome) { AnswerJob(*waiting, outcome); });
   if (decision.outcome.has_value()) return AnswerJob(call, *decision.outcome);
   if (!decision.ticket.has_value()) return;  // the first call with this id answers this one too
   const absl::StatusOr<std::shared_ptr<Job>> job =
-      AdmitJob(call.context(), principal, request, raw.size, /*bound_to_call=*/false);
+      AdmitJob(call.context(), principal, request, raw.size, /*bound_to_call=*/false, fingerprint);
   request_ids_.Complete(*decision.ticket, job);
   AnswerJob(call, job);
 }
@@ -246,9 +252,10 @@ void QuantizerService::AdmitCreateMesh(UnaryCall& call, const Principal& princip
     if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
     return call.Fail(mesh.status());
   }
-  std::shared_ptr<const StoredMesh> stored =
-      meshes_.Add(*std::move(mesh), principal.name, absl::Now());
-  const v1::Mesh answer = MeshToProto(*stored);
+  absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
+      meshes_.Add(*std::move(mesh), parsed->message.mesh(), principal.name, absl::Now());
+  if (!stored.ok()) return call.Fail(stored.status());
+  const v1::Mesh answer = MeshToProto(**stored);
   spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),
                QuotedLogValue(answer.owner()), QuotedLogValue(answer.display_name()),
                answer.mesh_stats().arcs());
@@ -262,6 +269,12 @@ absl::StatusOr<AdmittedMesh> QuantizerService::StoreableMesh(const v1::TMesh& pr
       memory_.Reserve(MemoryUse::kStoredMeshes, MeshBytes(request_bytes), "the mesh");
   if (!memory.ok()) return memory.status();
   return AdmitMesh(proto, limits_.max_arcs, *std::move(memory));
+}
+
+absl::StatusOr<JobSpec> QuantizerService::Readmit(const JobClaims::Claim& claim) {
+  const Principal owner{.name = claim.owner, .admin = true};
+  const AdmissionContext admission{limits_, owner, meshes_, memory_};
+  return PrepareJobSpec(claim.request, claim.request_bytes, admission);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -300,7 +313,13 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string
                                                                const Principal& principal) {
   absl::StatusOr<std::string> id = ParseResourceName(kJobCollection, name);
   if (!id.ok()) return id.status();
-  std::shared_ptr<Job> job = scheduler_.Find(*id);
+  absl::StatusOr<std::shared_ptr<Job>> found = scheduler_.Lookup(*id);
+  if (!found.ok()) {
+    // Not NOT_FOUND: the job may well exist, and the client should retry.
+    return absl::UnavailableError(
+        absl::StrCat("job ", name, " cannot be looked up now: ", found.status().message()));
+  }
+  std::shared_ptr<Job> job = *std::move(found);
   if (job == nullptr || !principal.CanAccess(job->owner())) {
     return absl::NotFoundError(
         absl::StrCat("job ", name, " not found: never submitted, or ended longer ago than the ",

@@ -99,6 +99,10 @@ class QuantizerService final : public RawQuantizerService {
                                            const grpc::ByteBuffer* request,
                                            grpc::ByteBuffer* response) override;
 
+  // Re-admits a job claimed from a shared store (server/job_claimer.h): its stored request, as
+  // its owner's, who was authorized when the job was submitted.
+  absl::StatusOr<JobSpec> Readmit(const JobClaims::Claim& claim);
+
   // Requests received and not yet admitted or refused, and whether more would be refused.
   int admissions_in_progress() const { return admission_pool_.in_progress(); }
   bool admissions_full() const { return admission_pool_.full(); }
@@ -117,11 +121,13 @@ class QuantizerService final : public RawQuantizerService {
   bool Dispatch(int64_t request_bytes, AdmissionPool::Task admit);
   absl::Status AdmissionPoolFull() const;
 
-  // Validates the request into a job and queues it.
+  // Validates the request into a job and queues it. `fingerprint`: the request's without its
+  // request_id, when it has one (a shared store compares it across replicas).
   absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const grpc::CallbackServerContext& context,
                                                 const Principal& principal,
                                                 const v1::QuantizeRequest& request,
-                                                int64_t request_bytes, bool bound_to_call);
+                                                int64_t request_bytes, bool bound_to_call,
+                                                std::string fingerprint = "");
   // Answers a SubmitJob with its job or error.
   static void AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job);
 

@@ -46,6 +46,17 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
   if (!config.tls.client_ca.empty() && !config.tls.enabled()) {
     return absl::InvalidArgumentError("--tls_client_ca needs --tls_cert and --tls_key");
   }
+  if (config.job_store != "memory" && config.job_store.rfind("postgresql://", 0) != 0 &&
+      config.job_store.rfind("postgres://", 0) != 0) {
+    return absl::InvalidArgumentError(
+        "--job_store must be \"memory\" or a postgresql://... connection URI");
+  }
+  if (config.job_lease < absl::Milliseconds(300)) {
+    return absl::InvalidArgumentError("--job_lease_seconds must be at least 0.3");
+  }
+  if (config.max_connection_age < absl::ZeroDuration()) {
+    return absl::InvalidArgumentError("--max_connection_age_seconds must not be negative");
+  }
   return absl::OkStatus();
 }
 

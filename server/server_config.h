@@ -40,6 +40,14 @@ struct ServerConfig {
   TlsFiles tls;
   std::vector<PrincipalToken> auth_tokens;    // empty: no bearer-token check
   std::vector<std::string> admin_principals;  // server/authenticator.h
+  // "memory" (server/in_memory_job_store.h) or a postgresql:// URI
+  // (server/postgres_job_store.h), shared by the replicas that use the same database.
+  std::string job_store = "memory";
+  absl::Duration job_lease = absl::Seconds(30);  // with PostgreSQL: a claimed job's lease
+  // Connections older than this are asked to reconnect (GOAWAY), so that clients re-resolve and
+  // spread over new replicas; zero: never. Streams in progress get the job time limit plus a
+  // minute to finish.
+  absl::Duration max_connection_age = absl::Minutes(5);
 };
 
 // INVALID_ARGUMENT naming the flag for values that cannot work.

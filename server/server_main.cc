@@ -78,6 +78,15 @@ ABSL_FLAG(std::vector<std::string>, admin_principals, {},
 ABSL_FLAG(std::string, port_file, "",
           "after binding, write the port to this file (for scripts that listen on port 0)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error or off");
+ABSL_FLAG(std::string, job_store, "memory",
+          "where jobs and stored meshes live: memory (this process), or a postgresql://... URI "
+          "shared by several replicas; the URI may also come from $ISPQ_JOB_STORE");
+ABSL_FLAG(double, job_lease_seconds, 30,
+          "with PostgreSQL: how long a replica's claim on a running job lasts without renewal; "
+          "a job whose replica died is run again elsewhere after at most this long");
+ABSL_FLAG(double, max_connection_age_seconds, 300,
+          "ask clients to reconnect after this long (0: never), so that they spread over new "
+          "replicas");
 
 namespace {
 
@@ -160,6 +169,14 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   if (!tokens.ok()) return tokens.status();
   config.auth_tokens = *std::move(tokens);
   config.admin_principals = absl::GetFlag(FLAGS_admin_principals);
+  config.job_store = absl::GetFlag(FLAGS_job_store);
+  // A URI with a password belongs in the environment (a Kubernetes Secret), not in argv.
+  if (const char* from_environment = std::getenv("ISPQ_JOB_STORE");
+      config.job_store == "memory" && from_environment != nullptr && *from_environment != '\0') {
+    config.job_store = from_environment;
+  }
+  config.job_lease = absl::Seconds(absl::GetFlag(FLAGS_job_lease_seconds));
+  config.max_connection_age = absl::Seconds(absl::GetFlag(FLAGS_max_connection_age_seconds));
   return config;
 }
 

@@ -8,8 +8,8 @@
 
 namespace ispq::server {
 
-WorkerPool::WorkerPool(int workers, JobQueue& queue, ServerMetrics& metrics)
-    : queue_(queue), metrics_(metrics) {
+WorkerPool::WorkerPool(int workers, JobSource& source, ServerMetrics& metrics)
+    : source_(source), metrics_(metrics) {
   threads_.reserve(workers);
   for (int i = 0; i < workers; ++i) threads_.emplace_back([this] { Work(); });
 }
@@ -20,10 +20,10 @@ WorkerPool::~WorkerPool() {
 
 void WorkerPool::Work() {
   LowerCurrentThreadPriority();
-  while (std::shared_ptr<Job> job = queue_.Pop()) {
+  while (std::shared_ptr<Job> job = source_.Next()) {
     RunJob(*job, metrics_);
     job.reset();  // drop the worker's reference before the queue counts the job as done
-    queue_.MarkDone();
+    source_.Done();
     ReleaseFreedMemory();  // what the solve freed, before the next job fragments it further
   }
 }

@@ -1,23 +1,23 @@
 // A fixed number of worker threads, each taking one job at a time from the queue and running it
-// to its end (server/job_runner.h). A job never uses more than its one worker thread, so the
-// pool's size is the number of solves that run at once. Threads exit when the queue is closed
-// and empty; the destructor joins them.
+// to its end (server/job_runner.h), from a JobSource (server/job_source.h). A job never uses more
+// than its one worker thread, so the pool's size is the number of solves that run at once. Threads
+// exit when the queue is closed and empty; the destructor joins them.
 #ifndef ISPQ_SERVER_WORKER_POOL_H_
 #define ISPQ_SERVER_WORKER_POOL_H_
 
 #include <thread>
 #include <vector>
 
-#include "server/job_queue.h"
+#include "server/job_source.h"
 #include "server/server_metrics.h"
 
 namespace ispq::server {
 
 class WorkerPool {
  public:
-  // Starts `workers` threads; `queue` and `metrics` must outlive the pool.
-  WorkerPool(int workers, JobQueue& queue, ServerMetrics& metrics);
-  // Joins the threads: close the queue first, or this waits forever.
+  // Starts `workers` threads; `source` and `metrics` must outlive the pool.
+  WorkerPool(int workers, JobSource& source, ServerMetrics& metrics);
+  // Joins the threads: close the source first, or this waits forever.
   ~WorkerPool();
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
@@ -27,7 +27,7 @@ class WorkerPool {
  private:
   void Work();
 
-  JobQueue& queue_;
+  JobSource& source_;
   ServerMetrics& metrics_;
   std::vector<std::thread> threads_;
 };

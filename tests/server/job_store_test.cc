@@ -5,7 +5,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
+#include "server/in_memory_job_store.h"
+#include "server/postgres_job_store.h"
 #include "tests/server/server_test_jobs.h"
+#include "tests/support/postgres_instance.h"
 
 namespace ispq::server {
 namespace {
@@ -16,12 +19,58 @@ void Finish(Job& job, absl::Time when) {
   job.FinishWithError(absl::InternalError("done for the test"), when);
 }
 
-TEST(JobStoreTest, KeepsActiveJobsAndTheNewestFinishedOnes) {
-  JobStore store({.max_finished = 2, .max_age = absl::Hours(1)});
+// Every test runs against both implementations of the interface: the in-memory store and the
+// PostgreSQL store on a real PostgreSQL (one server for the suite, a fresh database per test).
+class JobStoreTest : public ::testing::TestWithParam<std::string> {
+ protected:
+  static void SetUpTestSuite() {
+    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
+        ispq::testing::PostgresInstance::Start();
+    ASSERT_TRUE(started.ok()) << started.status();
+    postgres_ = started->release();
+  }
+  static void TearDownTestSuite() {
+    delete postgres_;
+    postgres_ = nullptr;
+  }
+
+  std::unique_ptr<JobStore> NewStore(RetentionPolicy policy) {
+    if (GetParam() == "memory") return std::make_unique<InMemoryJobStore>(policy);
+    absl::StatusOr<std::string> uri =
+        postgres_->CreateDatabase(absl::StrCat("store", next_database_++));
+    EXPECT_TRUE(uri.ok()) << uri.status();
+    PostgresJobStoreOptions options;
+    options.uri = *uri;
+    options.retention = policy;
+    options.lease = absl::Seconds(5);
+    absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
+    EXPECT_TRUE(store.ok()) << store.status();
+    return *std::move(store);
+  }
+
+  static std::shared_ptr<Job> Add(JobStore& store, std::shared_ptr<Job> job, absl::Time now) {
+    absl::StatusOr<std::shared_ptr<Job>> added = store.Add(job, "", now);
+    EXPECT_TRUE(added.ok()) << added.status();
+    return job;
+  }
+
+  static ispq::testing::PostgresInstance* postgres_;
+  static int next_database_;
+};
+
+ispq::testing::PostgresInstance* JobStoreTest::postgres_ = nullptr;
+int JobStoreTest::next_database_ = 0;
+
+INSTANTIATE_TEST_SUITE_P(BothStores, JobStoreTest, ::testing::Values("memory", "postgresql"),
+                         [](const auto& info) { return info.param; });
+
+TEST_P(JobStoreTest, KeepsActiveJobsAndTheNewestFinishedOnes) {
+  std::unique_ptr<JobStore> owned = NewStore({.max_finished = 2, .max_age = absl::Hours(1)});
+  JobStore& store = *owned;
   std::vector<std::shared_ptr<Job>> jobs;
   for (int i = 0; i < 4; ++i) {
     jobs.push_back(NewNotchJob(absl::StrCat("job", i), kT0));
-    store.Add(jobs.back(), kT0);
+    Add(store, jobs.back(), kT0);
   }
   Finish(*jobs[0], kT0 + absl::Seconds(1));
   Finish(*jobs[1], kT0 + absl::Seconds(2));
@@ -34,10 +83,11 @@ TEST(JobStoreTest, KeepsActiveJobsAndTheNewestFinishedOnes) {
   EXPECT_EQ(store.ActiveJobs().size(), 1u);
 }
 
-TEST(JobStoreTest, ForgetsFinishedJobsAfterTheRetentionTime) {
-  JobStore store({.max_finished = 100, .max_age = absl::Minutes(10)});
+TEST_P(JobStoreTest, ForgetsFinishedJobsAfterTheRetentionTime) {
+  std::unique_ptr<JobStore> owned = NewStore({.max_finished = 100, .max_age = absl::Minutes(10)});
+  JobStore& store = *owned;
   std::shared_ptr<Job> job = NewNotchJob("old", kT0);
-  store.Add(job, kT0);
+  Add(store, job, kT0);
   Finish(*job, kT0);
   EXPECT_NE(store.Find("old", kT0 + absl::Minutes(10)), nullptr);
   EXPECT_EQ(store.Find("old", kT0 + absl::Minutes(10) + absl::Seconds(1)), nullptr);
@@ -52,10 +102,13 @@ JobStore::Query Page(int size, const std::string& token,
   return query;
 }
 
-TEST(JobStoreTest, ListsNewestFirstInPagesAndByState) {
-  JobStore store({});
-  for (int i = 0; i < 5; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
-  Finish(*store.Find("j1", kT0), kT0);
+TEST_P(JobStoreTest, ListsNewestFirstInPagesAndByState) {
+  std::unique_ptr<JobStore> owned = NewStore({});
+  JobStore& store = *owned;
+  std::vector<std::shared_ptr<Job>> jobs;
+  for (int i = 0; i < 5; ++i)
+    jobs.push_back(Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0));
+  Finish(*jobs[1], kT0);
   absl::StatusOr<JobStore::Page> first = store.List(Page(2, ""), kT0);
   ASSERT_TRUE(first.ok());
   ASSERT_EQ(first->jobs.size(), 2u);
@@ -79,9 +132,10 @@ TEST(JobStoreTest, ListsNewestFirstInPagesAndByState) {
   EXPECT_EQ(store.List(Page(2, "x"), kT0).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
-TEST(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
-  JobStore store({});
-  for (int i = 0; i < 4; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+TEST_P(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
+  std::unique_ptr<JobStore> owned = NewStore({});
+  JobStore& store = *owned;
+  for (int i = 0; i < 4; ++i) Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0);
   absl::StatusOr<JobStore::Page> all = store.List(Page(4, ""), kT0);
   ASSERT_TRUE(all.ok());
   ASSERT_EQ(all->jobs.size(), 4u);
@@ -93,9 +147,10 @@ TEST(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
   EXPECT_EQ(resumed->jobs[1].job->id(), "j0");
 }
 
-TEST(JobStoreTest, ListsOnlyVisibleJobsAndFillsPagesWithThem) {
-  JobStore store({});
-  for (int i = 0; i < 6; ++i) store.Add(NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+TEST_P(JobStoreTest, ListsOnlyVisibleJobsAndFillsPagesWithThem) {
+  std::unique_ptr<JobStore> owned = NewStore({});
+  JobStore& store = *owned;
+  for (int i = 0; i < 6; ++i) Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0);
   JobStore::Query query = Page(2, "");
   query.visible = [](const Job& job) {
     return job.id() == "j0" || job.id() == "j2" || job.id() == "j5";
@@ -113,12 +168,13 @@ TEST(JobStoreTest, ListsOnlyVisibleJobsAndFillsPagesWithThem) {
   EXPECT_TRUE(second->next_page_token.empty());
 }
 
-TEST(JobStoreTest, EvictsTheJobThatEndedFirstAndNeverAnActiveOne) {
-  JobStore store({});
+TEST_P(JobStoreTest, EvictsTheJobThatEndedFirstAndNeverAnActiveOne) {
+  std::unique_ptr<JobStore> owned = NewStore({});
+  JobStore& store = *owned;
   std::vector<std::shared_ptr<Job>> jobs;
   for (int i = 0; i < 3; ++i) {
     jobs.push_back(NewNotchJob(absl::StrCat("j", i), kT0));
-    store.Add(jobs.back(), kT0);
+    Add(store, jobs.back(), kT0);
   }
   Finish(*jobs[2], kT0 + absl::Seconds(1));  // ended first, though added last
   Finish(*jobs[0], kT0 + absl::Seconds(2));

@@ -47,16 +47,15 @@ class MemoryAdmissionTest : public ::testing::Test {
     absl::StatusOr<MemoryReservation> memory =
         memory_.Reserve(MemoryUse::kStoredMeshes, bytes, "m");
     EXPECT_TRUE(memory.ok()) << memory.status();
-    absl::StatusOr<AdmittedMesh> admitted =
-        AdmitMesh(testing::LoadProtoOrDie(testing::BundledSample("s01c_cube.tmesh.json")), 1000,
-                  *std::move(memory));
+    const v1::TMesh proto = testing::LoadProtoOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+    absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(proto, 1000, *std::move(memory));
     EXPECT_TRUE(admitted.ok()) << admitted.status();
-    return meshes_.Add(*std::move(admitted), "owner", absl::Now())->id;
+    return (*meshes_.Add(*std::move(admitted), proto, "owner", absl::Now()))->id;
   }
 
   ServerMetrics metrics_;
   MemoryBudget budget_;
-  MeshStore meshes_;
+  InMemoryMeshStore meshes_;
   JobScheduler scheduler_;
   MemoryAdmission memory_;
 };

@@ -1,4 +1,4 @@
-#include "server/job_store.h"
+#include "server/in_memory_job_store.h"
 
 #include <algorithm>
 #include <optional>
@@ -16,24 +16,29 @@ constexpr int kMaxPageSize = 1000;
 
 }  // namespace
 
-JobStore::JobStore(RetentionPolicy policy) : policy_(policy) {}
+InMemoryJobStore::InMemoryJobStore(RetentionPolicy policy) : policy_(policy) {}
 
-void JobStore::Add(std::shared_ptr<Job> job, absl::Time now) {
+absl::StatusOr<std::shared_ptr<Job>> InMemoryJobStore::Add(std::shared_ptr<Job> job,
+                                                           const std::string& /*request*/,
+                                                           absl::Time now) {
   absl::MutexLock lock(&mutex_);
   PruneLocked(now);
   const uint64_t ordinal = next_ordinal_++;
   ordinal_by_id_[job->id()] = ordinal;
-  by_ordinal_[ordinal] = std::move(job);
+  by_ordinal_[ordinal] = job;
+  return job;
 }
 
-std::shared_ptr<Job> JobStore::Find(const std::string& id, absl::Time now) {
+void InMemoryJobStore::Cancel(Job& job, absl::Time /*now*/) { job.RequestCancel(); }
+
+std::shared_ptr<Job> InMemoryJobStore::Find(const std::string& id, absl::Time now) {
   absl::MutexLock lock(&mutex_);
   PruneLocked(now);
   const auto it = ordinal_by_id_.find(id);
   return it == ordinal_by_id_.end() ? nullptr : by_ordinal_.at(it->second);
 }
 
-absl::StatusOr<JobStore::Page> JobStore::List(const Query& query, absl::Time now) {
+absl::StatusOr<JobStore::Page> InMemoryJobStore::List(const Query& query, absl::Time now) {
   if (query.page_size < 0) {
     return absl::InvalidArgumentError(absl::StrCat("page_size ", query.page_size, " is negative"));
   }
@@ -61,7 +66,7 @@ absl::StatusOr<JobStore::Page> JobStore::List(const Query& query, absl::Time now
   return page;
 }
 
-bool JobStore::EvictOldestFinished() {
+bool InMemoryJobStore::EvictOldestFinished() {
   std::shared_ptr<Job> evicted;  // destroyed after the lock is released
   absl::MutexLock lock(&mutex_);
   std::optional<std::pair<absl::Time, uint64_t>> oldest;
@@ -79,7 +84,7 @@ bool JobStore::EvictOldestFinished() {
   return true;
 }
 
-std::vector<std::shared_ptr<Job>> JobStore::ActiveJobs() const {
+std::vector<std::shared_ptr<Job>> InMemoryJobStore::ActiveJobs() const {
   std::vector<std::shared_ptr<Job>> active;
   absl::MutexLock lock(&mutex_);
   for (const auto& [ordinal, job] : by_ordinal_) {
@@ -88,7 +93,7 @@ std::vector<std::shared_ptr<Job>> JobStore::ActiveJobs() const {
   return active;
 }
 
-v1::JobCounts JobStore::CountByState() const {
+v1::JobCounts InMemoryJobStore::CountByState() const {
   v1::JobCounts counts;
   absl::MutexLock lock(&mutex_);
   for (const auto& [ordinal, job] : by_ordinal_) {
@@ -115,7 +120,7 @@ v1::JobCounts JobStore::CountByState() const {
   return counts;
 }
 
-void JobStore::PruneLocked(absl::Time now) {
+void InMemoryJobStore::PruneLocked(absl::Time now) {
   // Finished jobs by end time, oldest first.
   std::vector<std::pair<absl::Time, uint64_t>> finished;
   for (const auto& [ordinal, job] : by_ordinal_) {

@@ -1,17 +1,18 @@
-#include "server/mesh_store.h"
-
 #include <algorithm>
 #include <iterator>
 #include <utility>
 
+#include "server/mesh_store.h"
 #include "server/resource_names.h"
 
 namespace ispq::server {
 
-MeshStore::MeshStore(int capacity) : capacity_(capacity) {}
+InMemoryMeshStore::InMemoryMeshStore(int capacity) : capacity_(capacity) {}
 
-std::shared_ptr<const StoredMesh> MeshStore::Add(AdmittedMesh admitted, std::string owner,
-                                                 absl::Time now) {
+absl::StatusOr<std::shared_ptr<const StoredMesh>> InMemoryMeshStore::Add(AdmittedMesh admitted,
+                                                                         const v1::TMesh& /*proto*/,
+                                                                         std::string owner,
+                                                                         absl::Time now) {
   auto stored = std::make_shared<StoredMesh>();
   stored->admitted = std::move(admitted);
   stored->owner = std::move(owner);
@@ -26,10 +27,10 @@ std::shared_ptr<const StoredMesh> MeshStore::Add(AdmittedMesh admitted, std::str
   }
   recency_.push_front(stored);
   by_id_[stored->id] = recency_.begin();
-  return stored;
+  return std::shared_ptr<const StoredMesh>(stored);
 }
 
-std::shared_ptr<const StoredMesh> MeshStore::Find(const std::string& id) {
+std::shared_ptr<const StoredMesh> InMemoryMeshStore::Find(const std::string& id) {
   absl::MutexLock lock(&mutex_);
   const auto it = by_id_.find(id);
   if (it == by_id_.end()) return nullptr;
@@ -37,7 +38,7 @@ std::shared_ptr<const StoredMesh> MeshStore::Find(const std::string& id) {
   return *it->second;
 }
 
-bool MeshStore::Remove(const std::string& id) {
+bool InMemoryMeshStore::Remove(const std::string& id) {
   absl::MutexLock lock(&mutex_);
   const auto it = by_id_.find(id);
   if (it == by_id_.end()) return false;
@@ -46,7 +47,7 @@ bool MeshStore::Remove(const std::string& id) {
   return true;
 }
 
-bool MeshStore::EvictLeastRecentlyUsed() {
+bool InMemoryMeshStore::EvictLeastRecentlyUsed() {
   std::shared_ptr<const StoredMesh> evicted;  // released after the lock, like any last reference
   absl::MutexLock lock(&mutex_);
   // A mesh that a job holds would stay in memory anyway: evicting it would only lose it.
@@ -60,7 +61,7 @@ bool MeshStore::EvictLeastRecentlyUsed() {
   return true;
 }
 
-int MeshStore::size() const {
+int InMemoryMeshStore::size() const {
   absl::MutexLock lock(&mutex_);
   return static_cast<int>(recency_.size());
 }

@@ -1,0 +1,197 @@
+// The PostgreSQL job store as several replicas see it: two stores on one real database stand for
+// two replicas. Claims, lease expiry, cross-replica watching, request ids and cancellation.
+#include <memory>
+#include <string>
+
+#include "absl/strings/str_cat.h"
+#include "absl/synchronization/notification.h"
+#include "gtest/gtest.h"
+#include "server/postgres_job_store.h"
+#include "tests/server/server_test_jobs.h"
+#include "tests/support/postgres_instance.h"
+
+namespace ispq::server {
+namespace {
+
+constexpr absl::Duration kLease = absl::Milliseconds(600);
+
+class PostgresJobClaimsTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
+        ispq::testing::PostgresInstance::Start();
+    ASSERT_TRUE(started.ok()) << started.status();
+    postgres_ = started->release();
+  }
+  static void TearDownTestSuite() {
+    delete postgres_;
+    postgres_ = nullptr;
+  }
+  void SetUp() override {
+    absl::StatusOr<std::string> uri =
+        postgres_->CreateDatabase(absl::StrCat("claims", next_database_++));
+    ASSERT_TRUE(uri.ok()) << uri.status();
+    uri_ = *uri;
+  }
+
+  std::unique_ptr<PostgresJobStore> Replica(const std::string& name) {
+    PostgresJobStoreOptions options;
+    options.uri = uri_;
+    options.lease = kLease;
+    options.replica = name;
+    absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
+    EXPECT_TRUE(store.ok()) << store.status();
+    return store.ok() ? *std::move(store) : nullptr;
+  }
+
+  static std::shared_ptr<Job> JobWithRequestId(const std::string& id, const std::string& request_id,
+                                               const std::string& fingerprint) {
+    JobSpec spec = NotchJobSpec();
+    spec.request_id = request_id;
+    spec.request_fingerprint = fingerprint;
+    return std::make_shared<Job>(id, std::move(spec), false, 0, absl::Now());
+  }
+
+  static ispq::testing::PostgresInstance* postgres_;
+  static int next_database_;
+  std::string uri_;
+};
+
+ispq::testing::PostgresInstance* PostgresJobClaimsTest::postgres_ = nullptr;
+int PostgresJobClaimsTest::next_database_ = 0;
+
+class CountingWatcher : public JobWatcher {
+ public:
+  explicit CountingWatcher(const Job& job) : job_(job) {}
+  void OnJobEvent() override {
+    if (job_.done() && !ended_.HasBeenNotified()) ended_.Notify();
+  }
+  absl::Notification ended_;
+
+ private:
+  const Job& job_;
+};
+
+TEST_F(PostgresJobClaimsTest, EachQueuedJobIsClaimedOnceOldestFirst) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("first"), "", absl::Now()).ok());
+  ASSERT_TRUE(a->Add(NewNotchJob("second"), "", absl::Now()).ok());
+  EXPECT_EQ(a->QueuedCount(), 2);
+  std::optional<JobClaims::Claim> one = b->ClaimNext();
+  std::optional<JobClaims::Claim> two = a->ClaimNext();
+  ASSERT_TRUE(one.has_value() && two.has_value());
+  EXPECT_EQ(one->id, "first");
+  EXPECT_EQ(two->id, "second");
+  EXPECT_EQ(one->attempt, 1);
+  EXPECT_EQ(one->next_sequence, 1) << "after the accepted event";
+  EXPECT_FALSE(b->ClaimNext().has_value());
+  EXPECT_EQ(a->Find("first", absl::Now())->state(), v1::RUNNING);
+}
+
+TEST_F(PostgresJobClaimsTest, AJobWhoseReplicaDiedIsClaimedAgainAfterItsLease) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("orphan"), "", absl::Now()).ok());
+  ASSERT_TRUE(b->ClaimNext().has_value());
+  EXPECT_FALSE(a->ClaimNext().has_value()) << "b's lease holds";
+  b.reset();  // b dies: nobody renews its lease
+  const absl::Time start = absl::Now();
+  std::optional<JobClaims::Claim> again;
+  while (!again.has_value() && absl::Now() - start < absl::Seconds(10)) {
+    absl::SleepFor(absl::Milliseconds(50));
+    again = a->ClaimNext();
+  }
+  ASSERT_TRUE(again.has_value());
+  EXPECT_EQ(again->id, "orphan");
+  EXPECT_EQ(again->attempt, 2);
+  EXPECT_GE(absl::Now() - start, kLease / 2);
+}
+
+TEST_F(PostgresJobClaimsTest, WatchersOnAnotherReplicaSeeEveryChangeLive) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  std::shared_ptr<Job> job = NewNotchJob("watched");
+  ASSERT_TRUE(a->Add(job, "", absl::Now()).ok());
+  std::shared_ptr<Job> mirror = b->Find("watched", absl::Now());
+  ASSERT_NE(mirror, nullptr);
+  auto watcher = std::make_shared<CountingWatcher>(*mirror);
+  mirror->AddWatcher(watcher);
+  ASSERT_TRUE(job->Start(absl::Now()));
+  v1::Progress progress;
+  progress.set_iteration(7);
+  job->PublishProgress(progress);
+  job->FinishWithError(absl::InternalError("ended for the test"), absl::Now());
+  ASSERT_TRUE(watcher->ended_.WaitForNotificationWithTimeout(absl::Seconds(10)));
+  EXPECT_EQ(mirror->state(), v1::FAILED);
+  const v1::Job seen = mirror->ToProto(v1::FULL);
+  EXPECT_EQ(seen.event_count(), 3);
+  EXPECT_EQ(seen.latest_progress().iteration(), 7);
+  EXPECT_EQ(seen.error().message(), "ended for the test");
+}
+
+TEST_F(PostgresJobClaimsTest, ARequestIdNamesOneJobAcrossReplicas) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(JobWithRequestId("original", "r1", "same"), "", absl::Now()).ok());
+  absl::StatusOr<std::shared_ptr<Job>> retry =
+      b->Add(JobWithRequestId("duplicate", "r1", "same"), "", absl::Now());
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  EXPECT_EQ((*retry)->id(), "original");
+  EXPECT_EQ(b->Find("duplicate", absl::Now()), nullptr);
+  absl::StatusOr<std::shared_ptr<Job>> other =
+      b->Add(JobWithRequestId("other", "r1", "different"), "", absl::Now());
+  EXPECT_EQ(other.status().code(), absl::StatusCode::kAlreadyExists);
+}
+
+TEST_F(PostgresJobClaimsTest, CancellingAQueuedJobOnAnotherReplicaEndsIt) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("doomed"), "", absl::Now()).ok());
+  std::shared_ptr<Job> mirror = b->Find("doomed", absl::Now());
+  ASSERT_NE(mirror, nullptr);
+  b->Cancel(*mirror, absl::Now());
+  EXPECT_EQ(mirror->state(), v1::CANCELLED);
+  EXPECT_EQ(a->Find("doomed", absl::Now())->state(), v1::CANCELLED);
+  EXPECT_FALSE(a->ClaimNext().has_value());
+}
+
+TEST_F(PostgresJobClaimsTest, RefusesAUriThatIsNotPostgres) {
+  PostgresJobStoreOptions options;
+  options.uri = "mysql://localhost/x";
+  absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
+  EXPECT_EQ(store.status().code(), absl::StatusCode::kInvalidArgument);
+  options.uri = "postgresql://nobody@127.0.0.1:1/none?connect_timeout=2";
+  absl::StatusOr<std::unique_ptr<PostgresJobStore>> unreachable = PostgresJobStore::Open(options);
+  EXPECT_EQ(unreachable.status().code(), absl::StatusCode::kUnavailable);
+}
+
+}  // namespace
+}  // namespace ispq::server
+
+namespace ispq::server {
+namespace {
+
+TEST_F(PostgresJobClaimsTest, CancellingARunningJobOnAnotherReplicaInterruptsItsRun) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("running"), "", absl::Now()).ok());
+  std::optional<JobClaims::Claim> claim = a->ClaimNext();
+  ASSERT_TRUE(claim.has_value());
+  std::shared_ptr<Job> runner = Job::Resume(claim->id, NotchJobSpec(), false, claim->create_time,
+                                            claim->next_sequence, nullptr);
+  a->Adopt(runner);
+  ASSERT_TRUE(runner->Start(absl::Now()));
+  std::shared_ptr<Job> mirror = b->Find("running", absl::Now());
+  ASSERT_NE(mirror, nullptr);
+  EXPECT_EQ(mirror->state(), v1::RUNNING);
+  b->Cancel(*mirror, absl::Now());
+  const absl::Time until = absl::Now() + absl::Seconds(5);
+  while (!runner->interrupter().IsInterrupted() && absl::Now() < until) {
+    absl::SleepFor(absl::Milliseconds(10));
+  }
+  EXPECT_TRUE(runner->interrupter().IsInterrupted());
+}
+
+}  // namespace
+}  // namespace ispq::server
