@@ -113,6 +113,7 @@ v1::Progress ProgressToProto(const ProgressEvent& event) {
   proto.set_violated_constraints(event.violated_constraints);
   proto.set_separating(event.separating);
   proto.set_elapsed_seconds(event.elapsed_seconds);
+  proto.set_lp_solves(event.lp_solves);
   return proto;
 }
 
