@@ -10,6 +10,8 @@ PACKAGES=(
   python3
   openssl  # the service's TLS integration tests make their certificates with it
   clang libclang-rt-14-dev  # libFuzzer and the sanitizers of tests/fuzz
+  libcpp-httplib-dev  # the HTTP side of ispq-server (server/http/)
+  chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
 )
 
 missing=()

@@ -40,6 +40,8 @@ struct ServerConfig {
   TlsFiles tls;
   std::vector<PrincipalToken> auth_tokens;    // empty: no bearer-token check
   std::vector<std::string> admin_principals;  // server/authenticator.h
+  std::string http_listen_address;            // empty: no HTTP side (server/http/)
+  int http_max_event_streams = 32;
 };
 
 // INVALID_ARGUMENT naming the flag for values that cannot work.
