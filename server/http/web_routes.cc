@@ -11,7 +11,7 @@ void Serve(const WebAsset& asset, httplib::Response& response) {
   response.set_header("Cache-Control", "no-cache");  // a new server version shows at once
   response.set_header("X-Content-Type-Options", "nosniff");
   response.set_header("Content-Security-Policy",
-                      "default-src 'self'; img-src 'self' data: blob:; connect-src 'self'");
+                      "default-src 'self'; img-src 'self' data: blob:; connect-src 'self' blob:");
   response.set_content(std::string(asset.body), std::string(asset.content_type));
 }
 

@@ -194,6 +194,8 @@ function showProgress(progress) {
 
 function showResult(result) {
   $('job-state').textContent = result.termination === 'CONVERGED' ? 'succeeded' : 'ended: ' + result.termination;
+  $('job-phase').textContent = 'done';
+  $('job-objective').textContent = number(result.objective);
   const stats = result.stats || {};
   const last = points.length ? points[points.length - 1].t : 0;
   points.push({ t: Math.max(last, Number(stats.solveSeconds || 0)), objective: Number(result.objective),
