@@ -20,8 +20,8 @@ struct JobSubmission {
   using Outcome = absl::StatusOr<std::shared_ptr<Job>>;
 
   Principal principal;
-  RawRequest raw;     // a serialized ispq.v1.QuantizeRequest, accounted in the memory budget
-  std::string peer;   // who sent it, for log lines
+  RawRequest raw;    // a serialized ispq.v1.QuantizeRequest, accounted in the memory budget
+  std::string peer;  // who sent it, for log lines
   // Whether the caller has gone away; admission then stops before parsing. Empty: never.
   std::function<bool()> abandoned;
   // Called exactly once with the job or the error, on whichever thread decided it (the caller's

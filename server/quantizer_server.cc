@@ -113,9 +113,9 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
       "event=server_start listen={} port={} http_port={} workers={} max_queued_jobs={} max_arcs={} "
       "max_message_bytes={} max_memory_bytes={} admission_threads={} max_job_seconds={} tls={} "
       "client_certificates={} token_principals={} admin_principals={}",
-      config.listen_address, server->port_, server->http_port(), config.workers, config.max_queued_jobs, config.max_arcs,
-      config.max_message_bytes, config.max_memory_bytes, config.admission_threads,
-      absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
+      config.listen_address, server->port_, server->http_port(), config.workers,
+      config.max_queued_jobs, config.max_arcs, config.max_message_bytes, config.max_memory_bytes,
+      config.admission_threads, absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
       !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size());
   return server;
 }

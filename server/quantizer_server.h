@@ -37,11 +37,11 @@
 //
 // Ownership: QuantizerServer owns the metrics, the memory budget, the mesh store, the
 // authenticator, the scheduler (job store, queue, workers), the service (with the admission
-// pool and the request ids), the grpc::Server, the readiness monitor and the HTTP server; jobs are shared between
-// the scheduler and the streams watching them. Members are destroyed in reverse order: the
-// HTTP server (stopped in Shutdown already), the readiness monitor, the gRPC server (no more calls), the service (drains the admission pool),
-// then the scheduler (joins the workers), and the budget last, after everything that holds
-// reservations on it.
+// pool and the request ids), the grpc::Server, the readiness monitor and the HTTP server; jobs are
+// shared between the scheduler and the streams watching them. Members are destroyed in reverse
+// order: the HTTP server (stopped in Shutdown already), the readiness monitor, the gRPC server (no
+// more calls), the service (drains the admission pool), then the scheduler (joins the workers), and
+// the budget last, after everything that holds reservations on it.
 //
 // Graceful shutdown (SIGTERM/SIGINT in server_main.cc, or Shutdown()): health turns
 // NOT_SERVING, new jobs are refused with UNAVAILABLE and queued ones end with UNAVAILABLE (they

@@ -81,9 +81,11 @@ absl::Status QuantizerService::AdmissionPoolFull() const {
       kAdmissionRetryHint);
 }
 
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
-    const std::string& peer, const Principal& principal, const v1::QuantizeRequest& request,
-    int64_t request_bytes, bool bound_to_call) {
+absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(const std::string& peer,
+                                                                const Principal& principal,
+                                                                const v1::QuantizeRequest& request,
+                                                                int64_t request_bytes,
+                                                                bool bound_to_call) {
   if (!scheduler_.accepting()) {
     return absl::UnavailableError("the server is shutting down and accepts no jobs");
   }
@@ -364,7 +366,7 @@ absl::StatusOr<v1::Job> QuantizerService::GetJob(const v1::GetJobRequest& reques
 }
 
 absl::StatusOr<v1::ListJobsResponse> QuantizerService::ListJobs(const v1::ListJobsRequest& request,
-                                                               const Principal& principal) {
+                                                                const Principal& principal) {
   JobStore::Query query;
   query.page_size = request.page_size();
   query.page_token = request.page_token();
@@ -413,19 +415,17 @@ v1::ServerStats QuantizerService::Stats() const {
 grpc::ServerUnaryReactor* QuantizerService::GetJob(grpc::CallbackServerContext* context,
                                                    const grpc::ByteBuffer* request,
                                                    grpc::ByteBuffer* response) {
-  return Lookup<v1::GetJobRequest>(
-      context, request, response,
-      [&](const v1::GetJobRequest& get, const Principal& principal) {
-        return GetJob(get, principal);
-      });
+  return Lookup<v1::GetJobRequest>(context, request, response,
+                                   [&](const v1::GetJobRequest& get, const Principal& principal) {
+                                     return GetJob(get, principal);
+                                   });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::ListJobs(grpc::CallbackServerContext* context,
                                                      const grpc::ByteBuffer* request,
                                                      grpc::ByteBuffer* response) {
   return Lookup<v1::ListJobsRequest>(
-      context, request, response,
-      [&](const v1::ListJobsRequest& list, const Principal& principal) {
+      context, request, response, [&](const v1::ListJobsRequest& list, const Principal& principal) {
         return ListJobs(list, principal);
       });
 }

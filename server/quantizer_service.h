@@ -115,8 +115,7 @@ class QuantizerService final : public RawQuantizerService {
   // SubmitJob: validates and queues the request, answering through `submission.answer`.
   void Submit(JobSubmission submission);
   // The job and first event a WatchJob request names.
-  absl::StatusOr<WatchTarget> Watch(const v1::WatchJobRequest& request,
-                                    const Principal& principal);
+  absl::StatusOr<WatchTarget> Watch(const v1::WatchJobRequest& request, const Principal& principal);
   absl::StatusOr<v1::Job> GetJob(const v1::GetJobRequest& request, const Principal& principal);
   absl::StatusOr<v1::ListJobsResponse> ListJobs(const v1::ListJobsRequest& request,
                                                 const Principal& principal);
@@ -144,8 +143,7 @@ class QuantizerService final : public RawQuantizerService {
   absl::Status AdmissionPoolFull() const;
 
   // Validates the request into a job and queues it.
-  absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const std::string& peer,
-                                                const Principal& principal,
+  absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const std::string& peer, const Principal& principal,
                                                 const v1::QuantizeRequest& request,
                                                 int64_t request_bytes, bool bound_to_call);
   // Answers a SubmitJob with its job or error.

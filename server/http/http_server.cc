@@ -70,8 +70,8 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string&
   server.set_error_handler([](const httplib::Request& request, httplib::Response& response) {
     if (!response.body.empty()) return;
     if (response.status == 404) {
-      ReplyError(response, absl::NotFoundError(absl::StrCat("no route for ", request.method, " ",
-                                                            request.path)));
+      ReplyError(response, absl::NotFoundError(
+                               absl::StrCat("no route for ", request.method, " ", request.path)));
     } else if (response.status == 413) {
       // cpp-httplib also refuses form-encoded bodies (curl -d's default type) past 8 KiB.
       ReplyError(response, absl::ResourceExhaustedError(
@@ -80,9 +80,8 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string&
                                "Content-Type: application/json"));
       response.status = 413;
     } else {
-      ReplyError(response, absl::InvalidArgumentError(
-                               absl::StrCat("the HTTP request was refused (", response.status,
-                                            ")")));
+      ReplyError(response, absl::InvalidArgumentError(absl::StrCat("the HTTP request was refused (",
+                                                                   response.status, ")")));
     }
   });
 

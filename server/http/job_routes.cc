@@ -52,15 +52,16 @@ class PendingAnswer {
 };
 
 // The body, converted to the binary request and accounted in the budget as gRPC's bytes are.
+// `body_memory` accounts for the JSON body itself, which cpp-httplib holds until the request ends.
 absl::StatusOr<RawRequest> BinaryRequest(const std::string& body, const HttpParts& parts,
-                                         const HttpLimits& limits) {
+                                         const HttpLimits& limits, MemoryReservation& body_memory) {
   if (body.empty()) {
     return absl::InvalidArgumentError("the body is empty: send an ispq.v1.QuantizeRequest in JSON");
   }
-  // The JSON body is held until the request ends; account for it meanwhile.
-  absl::StatusOr<MemoryReservation> body_memory = parts.memory.Account(
+  absl::StatusOr<MemoryReservation> accounted = parts.memory.Account(
       MemoryUse::kRequests, static_cast<int64_t>(body.size()), "the request body");
-  if (!body_memory.ok()) return body_memory.status();
+  if (!accounted.ok()) return accounted.status();
+  body_memory = *std::move(accounted);
   absl::StatusOr<std::string> binary = JsonToBinary(*v1::QuantizeRequest::descriptor(), body);
   if (!binary.ok()) return binary.status();
   grpc::Slice slice(*binary);
@@ -73,7 +74,8 @@ void SubmitJob(const HttpParts& parts, const HttpLimits& limits, const httplib::
                httplib::Response& response) {
   absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
   if (!principal.ok()) return ReplyError(response, principal.status());
-  absl::StatusOr<RawRequest> raw = BinaryRequest(request.body, parts, limits);
+  MemoryReservation body_memory;  // until the handler returns
+  absl::StatusOr<RawRequest> raw = BinaryRequest(request.body, parts, limits, body_memory);
   if (!raw.ok()) {
     if (absl::IsInvalidArgument(raw.status())) parts.metrics.RecordRejectedInvalid();
     return ReplyError(response, raw.status());
@@ -91,10 +93,10 @@ void SubmitJob(const HttpParts& parts, const HttpLimits& limits, const httplib::
       pending->WaitUntil(absl::Now() + kAdmissionTimeout);
   if (!job.has_value()) {
     gave_up->store(true);
-    return ReplyError(response,
-                      absl::DeadlineExceededError(absl::StrCat(
-                          "the request was not admitted within ", absl::FormatDuration(kAdmissionTimeout),
-                          "; retry with the same requestId to learn what became of it")));
+    return ReplyError(response, absl::DeadlineExceededError(absl::StrCat(
+                                    "the request was not admitted within ",
+                                    absl::FormatDuration(kAdmissionTimeout),
+                                    "; retry with the same requestId to learn what became of it")));
   }
   if (!job->ok()) return ReplyError(response, job->status());
   ReplyJson(response, (**job)->ToProto(v1::FULL), parts.memory);
@@ -142,10 +144,10 @@ void CancelJob(const HttpParts& parts, const httplib::Request& request,
 }  // namespace
 
 void AddJobRoutes(httplib::Server& server, const HttpParts& parts, const HttpLimits& limits) {
-  server.Post("/v1/jobs", [&parts, limits](const httplib::Request& request,
-                                           httplib::Response& response) {
-    SubmitJob(parts, limits, request, response);
-  });
+  server.Post("/v1/jobs",
+              [&parts, limits](const httplib::Request& request, httplib::Response& response) {
+                SubmitJob(parts, limits, request, response);
+              });
   server.Get("/v1/jobs", [&parts](const httplib::Request& request, httplib::Response& response) {
     ListJobs(parts, request, response);
   });

@@ -40,8 +40,7 @@ class Exposition {
   std::string text_;
 };
 
-std::vector<std::pair<std::string, double>> ByState(const v1::JobCounts& counts,
-                                                    bool with_active) {
+std::vector<std::pair<std::string, double>> ByState(const v1::JobCounts& counts, bool with_active) {
   std::vector<std::pair<std::string, double>> samples;
   if (with_active) {
     samples.emplace_back("{state=\"queued\"}", counts.queued());
@@ -79,8 +78,7 @@ std::string PrometheusText(const v1::ServerStats& stats, const HttpGauges& http)
   out.Single("ispq_workers", "gauge", "Worker threads (--workers).", stats.workers());
   out.Single("ispq_busy_workers", "gauge", "Workers running a job now.", stats.busy_workers());
   out.Single("ispq_admissions_in_progress", "gauge",
-             "Requests received and not yet parsed and validated.",
-             stats.admissions_in_progress());
+             "Requests received and not yet parsed and validated.", stats.admissions_in_progress());
   out.Single("ispq_stored_meshes", "gauge", "Meshes stored with CreateMesh.",
              stats.stored_meshes());
   out.Histogram("ispq_solve_seconds", "In-process solve time of finished runs.",
@@ -102,10 +100,10 @@ std::string PrometheusText(const v1::ServerStats& stats, const HttpGauges& http)
               {"{kind=\"stored_meshes\"}", static_cast<double>(memory.stored_meshes_bytes())},
               {"{kind=\"results\"}", static_cast<double>(memory.results_bytes())},
               {"{kind=\"responses\"}", static_cast<double>(memory.responses_bytes())}});
-  out.Single("ispq_uptime_seconds", "gauge", "Time since the server started.",
-             static_cast<double>(
-                 google::protobuf::util::TimeUtil::DurationToNanoseconds(stats.uptime())) /
-                 1e9);
+  out.Single(
+      "ispq_uptime_seconds", "gauge", "Time since the server started.",
+      static_cast<double>(google::protobuf::util::TimeUtil::DurationToNanoseconds(stats.uptime())) /
+          1e9);
   out.Single("ispq_shutting_down", "gauge", "1 once graceful shutdown has begun.",
              stats.shutting_down() ? 1 : 0);
   out.Single("ispq_ready", "gauge", "1 while the server would accept a new job (as /readyz).",

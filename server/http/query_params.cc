@@ -13,9 +13,8 @@ absl::StatusOr<int64_t> IntParam(const httplib::Request& request, const char* na
   const std::string text = request.get_param_value(name);
   int64_t value = 0;
   if (!absl::SimpleAtoi(text, &value) || value < minimum || value > maximum) {
-    return absl::InvalidArgumentError(absl::StrCat("query parameter ", name, "=", text,
-                                                   " is not an integer from ", minimum, " to ",
-                                                   maximum));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "query parameter ", name, "=", text, " is not an integer from ", minimum, " to ", maximum));
   }
   return value;
 }

@@ -19,10 +19,9 @@ void Serve(const WebAsset& asset, httplib::Response& response) {
 
 void AddWebRoutes(httplib::Server& server) {
   for (const WebAsset& asset : WebAssets()) {
-    server.Get(std::string(asset.path),
-               [&asset](const httplib::Request&, httplib::Response& response) {
-                 Serve(asset, response);
-               });
+    server.Get(
+        std::string(asset.path),
+        [&asset](const httplib::Request&, httplib::Response& response) { Serve(asset, response); });
     if (asset.path == "/index.html") {
       server.Get("/", [&asset](const httplib::Request&, httplib::Response& response) {
         Serve(asset, response);

@@ -66,8 +66,8 @@ TEST(HttpApiTest, SubmittedJobIsTheSameJobOverGrpcAndHttp) {
   const HttpAnswer got = HttpGet(server.http_port, JobPath(job.name()));
   ASSERT_EQ(got.status, 200) << got.body;
   const v1::Job over_http = FromJson<v1::Job>(got.body);
-  EXPECT_TRUE(MessageDifferencer::Equals(over_http, *done))
-      << over_http.DebugString() << "\nvs\n" << done->DebugString();
+  EXPECT_TRUE(MessageDifferencer::Equals(over_http, *done)) << over_http.DebugString() << "\nvs\n"
+                                                            << done->DebugString();
   EXPECT_TRUE(IsValidResult(mesh, over_http.result()));
 
   const HttpAnswer basic = HttpGet(server.http_port, JobPath(job.name(), "?view=BASIC"));

@@ -41,7 +41,8 @@ void ExpectSameEvents(const std::vector<v1::QuantizeEvent>& sse,
   ASSERT_EQ(sse.size(), grpc.size());
   for (size_t i = 0; i < sse.size(); ++i) {
     EXPECT_TRUE(MessageDifferencer::Equals(sse[i], grpc[i]))
-        << "event " << i << ":\n" << sse[i].ShortDebugString() << "\nvs\n"
+        << "event " << i << ":\n"
+        << sse[i].ShortDebugString() << "\nvs\n"
         << grpc[i].ShortDebugString();
   }
 }
@@ -74,8 +75,8 @@ TEST(HttpEventStreamTest, FinishedJobStreamsTheSameEventsAsWatchJob) {
     client::JobOutcome outcome;
     const std::vector<v1::QuantizeEvent> grpc = GrpcEvents(client, job->name(), from, &outcome);
     ASSERT_TRUE(outcome.status.ok()) << outcome.status;
-    const SseStream stream =
-        ReadEventStream(server.http_port, WatchPath(job->name(), absl::StrCat("?fromEvent=", from)));
+    const SseStream stream = ReadEventStream(
+        server.http_port, WatchPath(job->name(), absl::StrCat("?fromEvent=", from)));
     ExpectWellFormed(stream, "OK");
     ExpectSameEvents(EventsOf(stream), grpc);
   }
