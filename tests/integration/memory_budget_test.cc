@@ -238,13 +238,13 @@ TEST_F(MemoryBudgetTest, QueuedJobsFillTheBudgetAndThenGetARetryHint) {
 
 TEST_F(MemoryBudgetTest, ListJobsPagesStayWithinWhatClientsAcceptOverManyLargeResults) {
   ASSERT_NO_FATAL_FAILURE(StartServer());
-  // 14k arcs at a fine scaling: about 40 KB of q per result, so that 110 results make more than
-  // one client message (4 MiB) in total.
-  const v1::TMesh mesh = DisjointCopies(SharedMeshNamed("s01b_cube"), 100);
+  // 21k arcs at a fine scaling (two bytes per q, below the limit on hexes): about 40 KB of q per
+  // result, so that 110 results make more than one client message (4 MiB) in total.
+  const v1::TMesh mesh = DisjointCopies(SharedMeshNamed("s01b_cube"), 150);
   const absl::StatusOr<v1::Mesh> stored = client_->CreateMesh(mesh);
   ASSERT_TRUE(stored.ok()) << stored.status();
   v1::QuantizeRequest request = StoredMeshRequest(stored->name(), 100);
-  request.mutable_options()->mutable_scaling()->set_factor(16384);
+  request.mutable_options()->mutable_scaling()->set_factor(1024);
   std::set<std::string> submitted;
   while (submitted.size() < 110) {
     // The budget holds only a couple of these jobs at once: wait as the server says.
