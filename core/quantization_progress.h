@@ -28,6 +28,7 @@ struct ProgressEvent {
   int64_t violated_constraints;  // known rows (simple and separation) the current q violates
   bool separating;               // q satisfies every known row and the last search found nothing
   double elapsed_seconds;
+  int64_t lp_solves = 0;       // LP solves so far (QuantizeStats::lp_solves)
   std::span<const int64_t> q;  // current q, only if the observer WantsQuantization()
   // Exact mode: no q satisfying the separation rows found so far is better than this.
   std::optional<double> lower_bound = std::nullopt;

@@ -33,10 +33,42 @@ absl::StatusOr<Principal> Authenticator::Authenticate(
     const grpc::ServerContextBase& context) const {
   absl::StatusOr<std::string> name = PrincipalName(context);
   if (!name.ok()) return name.status();
+  return PrincipalNamed(*std::move(name));
+}
+
+absl::StatusOr<Principal> Authenticator::AuthenticateHttp(std::string_view authorization) const {
+  if (!config_.tokens.empty()) {
+    absl::StatusOr<std::string> name = TokenPrincipal(authorization);
+    if (!name.ok()) return name.status();
+    return PrincipalNamed(*std::move(name));
+  }
+  if (config_.client_certificates) {
+    return absl::UnauthenticatedError(
+        "this server names its principals by client certificate, which plaintext HTTP cannot "
+        "carry: use gRPC with mutual TLS");
+  }
+  return PrincipalNamed(std::string());
+}
+
+Principal Authenticator::PrincipalNamed(std::string name) const {
   Principal principal;
-  principal.admin = admins_.contains(*name);
-  principal.name = *std::move(name);
+  principal.admin = admins_.contains(name);
+  principal.name = std::move(name);
   return principal;
+}
+
+absl::StatusOr<std::string> Authenticator::TokenPrincipal(std::string_view authorization) const {
+  if (authorization.substr(0, kBearerPrefix.size()) == kBearerPrefix) {
+    const std::string_view presented = authorization.substr(kBearerPrefix.size());
+    // Every token is compared, so that the time does not tell which one came close.
+    const PrincipalToken* match = nullptr;
+    for (const PrincipalToken& entry : config_.tokens) {
+      if (ConstantTimeEquals(presented, entry.token)) match = &entry;
+    }
+    if (match != nullptr) return match->principal;
+  }
+  return absl::UnauthenticatedError(
+      "missing or wrong bearer token (metadata 'authorization: Bearer <token>')");
 }
 
 absl::StatusOr<std::string> Authenticator::PrincipalName(
@@ -47,17 +79,7 @@ absl::StatusOr<std::string> Authenticator::PrincipalName(
     const std::string_view value = it == metadata.end()
                                        ? std::string_view()
                                        : std::string_view(it->second.data(), it->second.size());
-    if (value.substr(0, kBearerPrefix.size()) == kBearerPrefix) {
-      const std::string_view presented = value.substr(kBearerPrefix.size());
-      // Every token is compared, so that the time does not tell which one came close.
-      const PrincipalToken* match = nullptr;
-      for (const PrincipalToken& entry : config_.tokens) {
-        if (ConstantTimeEquals(presented, entry.token)) match = &entry;
-      }
-      if (match != nullptr) return match->principal;
-    }
-    return absl::UnauthenticatedError(
-        "missing or wrong bearer token (metadata 'authorization: Bearer <token>')");
+    return TokenPrincipal(value);
   }
   if (config_.client_certificates) {
     const std::shared_ptr<const grpc::AuthContext> auth = context.auth_context();

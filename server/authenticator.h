@@ -12,6 +12,7 @@
 #define ISPQ_SERVER_AUTHENTICATOR_H_
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "absl/container/flat_hash_set.h"
@@ -34,9 +35,15 @@ class Authenticator {
 
   // The caller, or UNAUTHENTICATED without saying which part was wrong.
   absl::StatusOr<Principal> Authenticate(const grpc::ServerContextBase& context) const;
+  // The same for a plaintext HTTP request (server/http/) with this `Authorization` header value
+  // (empty if absent). It has no client certificate: where certificates name the principals
+  // and there are no tokens, it is UNAUTHENTICATED, so plaintext HTTP never bypasses mutual TLS.
+  absl::StatusOr<Principal> AuthenticateHttp(std::string_view authorization) const;
 
  private:
   absl::StatusOr<std::string> PrincipalName(const grpc::ServerContextBase& context) const;
+  absl::StatusOr<std::string> TokenPrincipal(std::string_view authorization) const;
+  Principal PrincipalNamed(std::string name) const;
 
   const AuthenticationConfig config_;
   const absl::flat_hash_set<std::string> admins_;

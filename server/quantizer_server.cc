@@ -133,17 +133,35 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
     server->shut_down_ = true;  // nothing is listening: the destructor only stops the workers
     return absl::UnavailableError(absl::StrCat("cannot listen on ", config.listen_address));
   }
+  if (!config.http_listen_address.empty()) {
+    QuantizerServer* const owner = server.get();
+    http::HttpParts parts{.service = owner->service_,
+                          .authenticator = owner->authenticator_,
+                          .memory = owner->memory_,
+                          .metrics = owner->metrics_,
+                          .live = [owner] { return owner->scheduler_.accepting(); },
+                          .ready = [owner] { return owner->Ready(); }};
+    absl::StatusOr<std::unique_ptr<http::HttpServer>> http = http::HttpServer::Start(
+        config.http_listen_address, std::move(parts),
+        http::HttpLimits{.max_body_bytes = config.max_message_bytes,
+                         .max_event_streams = config.http_max_event_streams});
+    if (!http.ok()) {
+      server->Shutdown();
+      return http.status();
+    }
+    server->http_ = *std::move(http);
+  }
   grpc::HealthCheckServiceInterface* health = server->server_->GetHealthCheckService();
   health->SetServingStatus(v1::Quantizer::service_full_name(), true);
   QuantizerServer* const self = server.get();
   server->readiness_ = std::make_unique<ReadinessMonitor>(health, [self] { return self->Ready(); });
   spdlog::info(
-      "event=server_start listen={} port={} workers={} max_queued_jobs={} max_arcs={} "
+      "event=server_start listen={} port={} http_port={} workers={} max_queued_jobs={} max_arcs={} "
       "max_message_bytes={} max_memory_bytes={} admission_threads={} max_job_seconds={} tls={} "
       "client_certificates={} token_principals={} admin_principals={} job_store={}",
-      config.listen_address, server->port_, config.workers, config.max_queued_jobs, config.max_arcs,
-      config.max_message_bytes, config.max_memory_bytes, config.admission_threads,
-      absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
+      config.listen_address, server->port_, server->http_port(), config.workers,
+      config.max_queued_jobs, config.max_arcs, config.max_message_bytes, config.max_memory_bytes,
+      config.admission_threads, absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
       !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size(),
       config.job_store == "memory" ? "memory" : "postgresql");
   return server;
@@ -169,6 +187,9 @@ void QuantizerServer::Shutdown() {
     scheduler_.InterruptRunning();
     idle = scheduler_.WaitUntilIdle(deadline - flush_time / 2);
   }
+  // The jobs have ended: the HTTP event streams have their terminal events, which they write
+  // before they look at the stop (within about a second).
+  if (http_ != nullptr) http_->Stop();
   // Waits for the streams to deliver their terminal events, and cancels what is left at the
   // deadline.
   server_->Shutdown(absl::ToChronoTime(deadline));

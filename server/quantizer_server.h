@@ -31,13 +31,17 @@
 // solver memory, stored meshes, retained results and responses in flight. Admission refuses
 // what does not fit after evicting retained results and stored meshes (server/memory_admission.h).
 //
+// HTTP side (--http_listen, server/http/http_server.h): a second listener on threads of its own
+// that calls the same service operations, so both transports share jobs, principals, limits
+// and the memory budget; its /healthz and /readyz report what the gRPC health service does.
+//
 // Ownership: QuantizerServer owns the metrics, the memory budget, the mesh store, the
 // authenticator, the scheduler (job store, queue, workers), the service (with the admission
-// pool and the request ids), the grpc::Server and the readiness monitor; jobs are shared between
-// the scheduler and the streams watching them. Members are destroyed in reverse order: the
-// readiness monitor, the gRPC server (no more calls), the service (drains the admission pool),
-// then the scheduler (joins the workers), and the budget last, after everything that holds
-// reservations on it.
+// pool and the request ids), the grpc::Server, the readiness monitor and the HTTP server; jobs are
+// shared between the scheduler and the streams watching them. Members are destroyed in reverse
+// order: the HTTP server (stopped in Shutdown already), the readiness monitor, the gRPC server (no
+// more calls), the service (drains the admission pool), then the scheduler (joins the workers), and
+// the budget last, after everything that holds reservations on it.
 //
 // Graceful shutdown (SIGTERM/SIGINT in server_main.cc, or Shutdown()): health turns
 // NOT_SERVING, new jobs are refused with UNAVAILABLE and queued ones end with UNAVAILABLE (they
@@ -53,6 +57,7 @@
 #include "absl/status/statusor.h"
 #include "grpcpp/server.h"
 #include "server/authenticator.h"
+#include "server/http/http_server.h"
 #include "server/job_scheduler.h"
 #include "server/job_store.h"
 #include "server/memory_admission.h"
@@ -78,6 +83,8 @@ class QuantizerServer {
 
   // The bound port (useful with port 0 in --listen).
   int port() const { return port_; }
+  // The HTTP side's bound port, 0 without --http_listen.
+  int http_port() const { return http_ == nullptr ? 0 : http_->port(); }
 
   // Graceful shutdown within the configured grace period (see the file comment). Idempotent.
   void Shutdown();
@@ -99,6 +106,7 @@ class QuantizerServer {
   QuantizerService service_;
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<ReadinessMonitor> readiness_;
+  std::unique_ptr<http::HttpServer> http_;  // null without --http_listen
   int port_ = 0;
   bool shut_down_ = false;
 };

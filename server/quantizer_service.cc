@@ -82,9 +82,8 @@ absl::Status QuantizerService::AdmissionPoolFull() const {
 }
 
 absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
-    const grpc::CallbackServerContext& context, const Principal& principal,
-    const v1::QuantizeRequest& request, int64_t request_bytes, bool bound_to_call,
-    std::string fingerprint) {
+    const std::string& peer, const Principal& principal, const v1::QuantizeRequest& request,
+    int64_t request_bytes, bool bound_to_call, std::string fingerprint) {
   if (!scheduler_.accepting()) {
     return absl::UnavailableError("the server is shutting down and accepts no jobs");
   }
@@ -92,7 +91,7 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
   absl::StatusOr<JobSpec> spec = PrepareJobSpec(request, request_bytes, admission);
   if (!spec.ok()) {
     if (absl::IsInvalidArgument(spec.status())) metrics_.RecordRejectedInvalid();
-    spdlog::debug("event=job_rejected peer={} code={} error={}", context.peer(),
+    spdlog::debug("event=job_rejected peer={} code={} error={}", peer,
                   absl::StatusCodeToString(spec.status().code()),
                   QuotedLogValue(std::string(spec.status().message())));
     return spec.status();
@@ -153,7 +152,7 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::QuantizeJob(
         "request_id is for SubmitJob: a Quantize job ends with its call, so a retried Quantize "
         "is a new job");
   }
-  return AdmitJob(context, principal, parsed->message, raw.size, /*bound_to_call=*/true);
+  return AdmitJob(context.peer(), principal, parsed->message, raw.size, /*bound_to_call=*/true);
 }
 
 grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContext* context,
@@ -170,12 +169,22 @@ grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContex
     call->Fail(raw.status());
     return call;
   }
-  const int64_t size = raw->size;
-  const bool dispatched =
-      Dispatch(size, [this, call, principal = *std::move(principal),
-                      raw = *std::move(raw)]() mutable { AdmitSubmitJob(*call, principal, raw); });
-  if (!dispatched) call->Fail(AdmissionPoolFull());
+  JobSubmission submission;
+  submission.principal = *std::move(principal);
+  submission.raw = *std::move(raw);
+  submission.peer = context->peer();
+  submission.abandoned = [context] { return context->IsCancelled(); };
+  submission.answer = [call](const JobSubmission::Outcome& job) { AnswerJob(*call, job); };
+  Submit(std::move(submission));
   return call;
+}
+
+void QuantizerService::Submit(JobSubmission submission) {
+  auto shared = std::make_shared<JobSubmission>(std::move(submission));
+  const int64_t size = shared->raw.size;
+  if (!Dispatch(size, [this, shared] { AdmitSubmission(shared); })) {
+    shared->answer(AdmissionPoolFull());
+  }
 }
 
 void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job) {
@@ -186,22 +195,23 @@ void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shar
   }
 }
 
-void QuantizerService::AdmitSubmitJob(UnaryCall& call, const Principal& principal,
-                                      RawRequest& raw) {
-  if (call.context().IsCancelled()) return call.Fail(CancelledBeforeAdmission());
+void QuantizerService::AdmitSubmission(const std::shared_ptr<JobSubmission>& submission) {
+  const JobSubmission& s = *submission;
+  if (s.abandoned && s.abandoned()) return s.answer(CancelledBeforeAdmission());
   absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
-      ParseWithinBudget<v1::QuantizeRequest>(raw, memory_);
+      ParseWithinBudget<v1::QuantizeRequest>(submission->raw, memory_);
   if (!parsed.ok()) {
     if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
-    return call.Fail(parsed.status());
+    return s.answer(parsed.status());
   }
   v1::QuantizeRequest& request = parsed->message;
+  const int64_t size = submission->raw.size;
   if (request.request_id().empty()) {
-    return AnswerJob(call, AdmitJob(call.context(), principal, request, raw.size, false));
+    return s.answer(AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false));
   }
   if (absl::Status valid = ValidateRequestId(request.request_id()); !valid.ok()) {
     metrics_.RecordRejectedInvalid();
-    return call.Fail(valid);
+    return s.answer(valid);
   }
   // The fingerprint covers everything but the id itself.
   std::string request_id = std::move(*request.mutable_request_id());
@@ -209,14 +219,14 @@ void QuantizerService::AdmitSubmitJob(UnaryCall& call, const Principal& principa
   std::string fingerprint = RequestFingerprint(request);
   request.set_request_id(request_id);
   RequestIds::Decision decision = request_ids_.Begin(
-      principal.name, request_id, fingerprint,
-      [waiting = &call](RequestIds::Outcome outcome) { AnswerJob(*waiting, outcome); });
-  if (decision.outcome.has_value()) return AnswerJob(call, *decision.outcome);
+      s.principal.name, request_id, fingerprint,
+      [submission](RequestIds::Outcome outcome) { submission->answer(outcome); });
+  if (decision.outcome.has_value()) return s.answer(*decision.outcome);
   if (!decision.ticket.has_value()) return;  // the first call with this id answers this one too
   const absl::StatusOr<std::shared_ptr<Job>> job =
-      AdmitJob(call.context(), principal, request, raw.size, /*bound_to_call=*/false, fingerprint);
+      AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false, fingerprint);
   request_ids_.Complete(*decision.ticket, job);
-  AnswerJob(call, job);
+  s.answer(job);
 }
 
 grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerContext* context,
@@ -332,17 +342,17 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::WatchJob(
     grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
   std::shared_ptr<JobEventStream> stream =
       JobEventStream::Create(/*cancel_job_with_call=*/nullptr, &memory_.budget());
-  absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> watched = WatchedJob(*context, request);
+  absl::StatusOr<WatchTarget> watched = WatchedJob(*context, request);
   if (!watched.ok()) {
     stream->Reject(ToGrpcStatus(watched.status(), *context));
   } else {
-    stream->Attach(std::move(watched->first), watched->second);
+    stream->Attach(std::move(watched->job), watched->from_event);
   }
   return stream.get();
 }
 
-absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> QuantizerService::WatchedJob(
-    grpc::CallbackServerContext& context, const grpc::ByteBuffer* request) {
+absl::StatusOr<WatchTarget> QuantizerService::WatchedJob(grpc::CallbackServerContext& context,
+                                                         const grpc::ByteBuffer* request) {
   absl::StatusOr<Principal> principal = authenticator_.Authenticate(context);
   if (!principal.ok()) return principal.status();
   absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
@@ -350,71 +360,100 @@ absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> QuantizerService::Watch
   absl::StatusOr<ParsedRequest<v1::WatchJobRequest>> parsed =
       ParseWithinBudget<v1::WatchJobRequest>(*raw, memory_);
   if (!parsed.ok()) return parsed.status();
-  const int64_t from_event = parsed->message.from_event();
-  if (from_event < 0) {
-    return absl::InvalidArgumentError(absl::StrCat("from_event ", from_event, " is negative"));
+  return Watch(parsed->message, *principal);
+}
+
+absl::StatusOr<WatchTarget> QuantizerService::Watch(const v1::WatchJobRequest& request,
+                                                    const Principal& principal) {
+  if (request.from_event() < 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("from_event ", request.from_event(), " is negative"));
   }
-  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(parsed->message.name(), *principal);
+  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
   if (!job.ok()) return job.status();
-  return std::make_pair(*std::move(job), from_event);
+  return WatchTarget{*std::move(job), request.from_event()};
+}
+
+absl::StatusOr<v1::Job> QuantizerService::GetJob(const v1::GetJobRequest& request,
+                                                 const Principal& principal) {
+  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
+  if (!job.ok()) return job.status();
+  return (*job)->ToProto(request.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::FULL : request.view());
+}
+
+absl::StatusOr<v1::ListJobsResponse> QuantizerService::ListJobs(const v1::ListJobsRequest& request,
+                                                                const Principal& principal) {
+  JobStore::Query query;
+  query.page_size = request.page_size();
+  query.page_token = request.page_token();
+  query.state = request.state();
+  query.visible = [&principal](const Job& job) { return principal.CanAccess(job.owner()); };
+  absl::StatusOr<JobStore::Page> page = scheduler_.List(query);
+  if (!page.ok()) return page.status();
+  const v1::JobView view = request.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::BASIC : request.view();
+  v1::ListJobsResponse listed;
+  int64_t bytes = 0;
+  for (const JobStore::Listed& entry : page->jobs) {
+    v1::Job job = entry.job->ToProto(view);
+    const int64_t size = static_cast<int64_t>(job.ByteSizeLong());
+    if (listed.jobs_size() > 0 && bytes + size > kMaxListPageBytes) {
+      listed.set_next_page_token(entry.token);  // the page is full: resume at this job
+      return listed;
+    }
+    bytes += size;
+    *listed.add_jobs() = std::move(job);
+  }
+  listed.set_next_page_token(page->next_page_token);
+  return listed;
+}
+
+absl::StatusOr<v1::Job> QuantizerService::CancelJob(const v1::CancelJobRequest& request,
+                                                    const Principal& principal) {
+  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
+  if (!job.ok()) return job.status();
+  scheduler_.Cancel(**job);
+  return (*job)->ToProto(v1::FULL);
+}
+
+v1::ServerStats QuantizerService::Stats() const {
+  v1::ServerStats stats;
+  metrics_.FillProto(stats);
+  scheduler_.FillStats(stats);
+  stats.set_stored_meshes(meshes_.size());
+  *stats.mutable_uptime() =
+      TimeUtil::NanosecondsToDuration(absl::ToInt64Nanoseconds(absl::Now() - start_time_));
+  stats.set_shutting_down(!scheduler_.accepting());
+  *stats.mutable_memory() = memory_.budget().ToProto();
+  stats.set_admissions_in_progress(admission_pool_.in_progress());
+  return stats;
 }
 
 grpc::ServerUnaryReactor* QuantizerService::GetJob(grpc::CallbackServerContext* context,
                                                    const grpc::ByteBuffer* request,
                                                    grpc::ByteBuffer* response) {
-  return Lookup<v1::GetJobRequest>(
-      context, request, response,
-      [&](const v1::GetJobRequest& get, const Principal& principal) -> absl::StatusOr<v1::Job> {
-        absl::StatusOr<std::shared_ptr<Job>> job = FindJob(get.name(), principal);
-        if (!job.ok()) return job.status();
-        return (*job)->ToProto(get.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::FULL : get.view());
-      });
+  return Lookup<v1::GetJobRequest>(context, request, response,
+                                   [&](const v1::GetJobRequest& get, const Principal& principal) {
+                                     return GetJob(get, principal);
+                                   });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::ListJobs(grpc::CallbackServerContext* context,
                                                      const grpc::ByteBuffer* request,
                                                      grpc::ByteBuffer* response) {
   return Lookup<v1::ListJobsRequest>(
-      context, request, response,
-      [&](const v1::ListJobsRequest& list,
-          const Principal& principal) -> absl::StatusOr<v1::ListJobsResponse> {
-        JobStore::Query query;
-        query.page_size = list.page_size();
-        query.page_token = list.page_token();
-        query.state = list.state();
-        query.visible = [&principal](const Job& job) { return principal.CanAccess(job.owner()); };
-        absl::StatusOr<JobStore::Page> page = scheduler_.List(query);
-        if (!page.ok()) return page.status();
-        const v1::JobView view = list.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::BASIC : list.view();
-        v1::ListJobsResponse listed;
-        int64_t bytes = 0;
-        for (const JobStore::Listed& entry : page->jobs) {
-          v1::Job job = entry.job->ToProto(view);
-          const int64_t size = static_cast<int64_t>(job.ByteSizeLong());
-          if (listed.jobs_size() > 0 && bytes + size > kMaxListPageBytes) {
-            listed.set_next_page_token(entry.token);  // the page is full: resume at this job
-            return listed;
-          }
-          bytes += size;
-          *listed.add_jobs() = std::move(job);
-        }
-        listed.set_next_page_token(page->next_page_token);
-        return listed;
+      context, request, response, [&](const v1::ListJobsRequest& list, const Principal& principal) {
+        return ListJobs(list, principal);
       });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::CancelJob(grpc::CallbackServerContext* context,
                                                       const grpc::ByteBuffer* request,
                                                       grpc::ByteBuffer* response) {
-  return Lookup<v1::CancelJobRequest>(context, request, response,
-                                      [&](const v1::CancelJobRequest& cancel,
-                                          const Principal& principal) -> absl::StatusOr<v1::Job> {
-                                        absl::StatusOr<std::shared_ptr<Job>> job =
-                                            FindJob(cancel.name(), principal);
-                                        if (!job.ok()) return job.status();
-                                        scheduler_.Cancel(**job);
-                                        return (*job)->ToProto(v1::FULL);
-                                      });
+  return Lookup<v1::CancelJobRequest>(
+      context, request, response,
+      [&](const v1::CancelJobRequest& cancel, const Principal& principal) {
+        return CancelJob(cancel, principal);
+      });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::GetMesh(grpc::CallbackServerContext* context,
@@ -453,16 +492,7 @@ grpc::ServerUnaryReactor* QuantizerService::GetServerStats(grpc::CallbackServerC
   return Lookup<v1::GetServerStatsRequest>(
       context, request, response,
       [&](const v1::GetServerStatsRequest&, const Principal&) -> absl::StatusOr<v1::ServerStats> {
-        v1::ServerStats stats;
-        metrics_.FillProto(stats);
-        scheduler_.FillStats(stats);
-        stats.set_stored_meshes(meshes_.size());
-        *stats.mutable_uptime() =
-            TimeUtil::NanosecondsToDuration(absl::ToInt64Nanoseconds(absl::Now() - start_time_));
-        stats.set_shutting_down(!scheduler_.accepting());
-        *stats.mutable_memory() = memory_.budget().ToProto();
-        stats.set_admissions_in_progress(admission_pool_.in_progress());
-        return stats;
+        return Stats();
       });
 }
 

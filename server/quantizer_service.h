@@ -11,7 +11,10 @@
 // (server/request_ids.h).
 //
 // Methods are registered raw (see server/raw_proto_call.h) so that a request that does not
-// parse is INVALID_ARGUMENT. Errors cross into gRPC here and only here.
+// parse is INVALID_ARGUMENT. The operations behind the methods (Submit, Watch, GetJob...) are
+// public and transport-neutral, answering with absl::Status: the HTTP side (server/http/) calls
+// them too, so both transports share semantics, limits and errors. Errors cross into gRPC in the
+// gRPC methods here, into HTTP in server/http/http_status.h.
 #ifndef ISPQ_SERVER_QUANTIZER_SERVICE_H_
 #define ISPQ_SERVER_QUANTIZER_SERVICE_H_
 
@@ -29,6 +32,7 @@
 #include "server/job_event_stream.h"
 #include "server/job_scheduler.h"
 #include "server/job_spec.h"
+#include "server/job_submission.h"
 #include "server/memory_admission.h"
 #include "server/mesh_store.h"
 #include "server/principal.h"
@@ -49,6 +53,12 @@ using RawQuantizerService = v1::Quantizer::WithRawCallbackMethod_Quantize<
                         v1::Quantizer::WithRawCallbackMethod_DeleteMesh<
                             v1::Quantizer::WithRawCallbackMethod_GetServerStats<
                                 v1::Quantizer::Service>>>>>>>>>>;
+
+// A job to stream to a watcher, from event `from_event` on.
+struct WatchTarget {
+  std::shared_ptr<Job> job;
+  int64_t from_event = 0;
+};
 
 // What the service works with; everything must outlive the gRPC server that serves it.
 struct ServiceParts {
@@ -103,6 +113,21 @@ class QuantizerService final : public RawQuantizerService {
   // its owner's, who was authorized when the job was submitted.
   absl::StatusOr<JobSpec> Readmit(const JobClaims::Claim& claim);
 
+  // ---- The same operations for other transports (the HTTP side, server/http/) ----
+  // They take an authenticated principal and answer as the gRPC methods do.
+
+  // SubmitJob: validates and queues the request, answering through `submission.answer`.
+  void Submit(JobSubmission submission);
+  // The job and first event a WatchJob request names.
+  absl::StatusOr<WatchTarget> Watch(const v1::WatchJobRequest& request, const Principal& principal);
+  absl::StatusOr<v1::Job> GetJob(const v1::GetJobRequest& request, const Principal& principal);
+  absl::StatusOr<v1::ListJobsResponse> ListJobs(const v1::ListJobsRequest& request,
+                                                const Principal& principal);
+  absl::StatusOr<v1::Job> CancelJob(const v1::CancelJobRequest& request,
+                                    const Principal& principal);
+  // GetServerStats' answer.
+  v1::ServerStats Stats() const;
+
   // Requests received and not yet admitted or refused, and whether more would be refused.
   int admissions_in_progress() const { return admission_pool_.in_progress(); }
   bool admissions_full() const { return admission_pool_.full(); }
@@ -113,7 +138,7 @@ class QuantizerService final : public RawQuantizerService {
                      const Principal& principal, RawRequest& raw);
   absl::StatusOr<std::shared_ptr<Job>> QuantizeJob(grpc::CallbackServerContext& context,
                                                    const Principal& principal, RawRequest& raw);
-  void AdmitSubmitJob(UnaryCall& call, const Principal& principal, RawRequest& raw);
+  void AdmitSubmission(const std::shared_ptr<JobSubmission>& submission);
   void AdmitCreateMesh(UnaryCall& call, const Principal& principal, RawRequest& raw);
   // The mesh of a CreateMesh request, validated, with memory reserved in the store's account.
   absl::StatusOr<AdmittedMesh> StoreableMesh(const v1::TMesh& proto, int64_t request_bytes);
@@ -123,8 +148,7 @@ class QuantizerService final : public RawQuantizerService {
 
   // Validates the request into a job and queues it. `fingerprint`: the request's without its
   // request_id, when it has one (a shared store compares it across replicas).
-  absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const grpc::CallbackServerContext& context,
-                                                const Principal& principal,
+  absl::StatusOr<std::shared_ptr<Job>> AdmitJob(const std::string& peer, const Principal& principal,
                                                 const v1::QuantizeRequest& request,
                                                 int64_t request_bytes, bool bound_to_call,
                                                 std::string fingerprint = "");
@@ -139,8 +163,8 @@ class QuantizerService final : public RawQuantizerService {
                                    Handler&& handler);
 
   // The job a WatchJob request names, and the event to start from.
-  absl::StatusOr<std::pair<std::shared_ptr<Job>, int64_t>> WatchedJob(
-      grpc::CallbackServerContext& context, const grpc::ByteBuffer* request);
+  absl::StatusOr<WatchTarget> WatchedJob(grpc::CallbackServerContext& context,
+                                         const grpc::ByteBuffer* request);
   // The job `name` if `principal` may see it, else NOT_FOUND (as if it did not exist).
   absl::StatusOr<std::shared_ptr<Job>> FindJob(const std::string& name, const Principal& principal);
 

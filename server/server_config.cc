@@ -28,6 +28,7 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
            AtLeast("max_memory_bytes", config.max_memory_bytes, kMinMemoryBytes),
            AtLeast("admission_threads", config.admission_threads, 1),
            AtLeast("max_waiting_admissions", config.max_waiting_admissions, 1),
+           AtLeast("http_max_event_streams", config.http_max_event_streams, 1),
        }) {
     if (!status.ok()) return status;
   }

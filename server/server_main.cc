@@ -4,6 +4,7 @@
 //   ispq-server [--listen 127.0.0.1:50051] [--workers N] [limits] [--max_memory_bytes SIZE]
 //               [--tls_cert F --tls_key F [--tls_client_ca F]]
 //               [--auth_token_file F | --auth_tokens_file F] [--admin_principals A,B]
+//               [--http_listen HOST:PORT]
 //
 // Stops gracefully on SIGTERM or SIGINT and exits 0; exits 1 if it cannot start.
 #include <pthread.h>
@@ -75,6 +76,13 @@ ABSL_FLAG(std::string, auth_tokens_file, "",
 ABSL_FLAG(std::vector<std::string>, admin_principals, {},
           "principals (token principals or client-certificate subjects) that see and act on "
           "every job and mesh, comma-separated");
+ABSL_FLAG(std::string, http_listen, "",
+          "also serve HTTP on HOST:PORT (plaintext): the JSON API, job events as server-sent "
+          "events, /metrics, /healthz, /readyz and the web view; empty: no HTTP side");
+ABSL_FLAG(std::string, http_port_file, "",
+          "after binding, write the HTTP port to this file (with port 0 in --http_listen)");
+ABSL_FLAG(int, http_max_event_streams, 32,
+          "server-sent-event streams open at once on the HTTP side; beyond, 429");
 ABSL_FLAG(std::string, port_file, "",
           "after binding, write the port to this file (for scripts that listen on port 0)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error or off");
@@ -177,6 +185,8 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   }
   config.job_lease = absl::Seconds(absl::GetFlag(FLAGS_job_lease_seconds));
   config.max_connection_age = absl::Seconds(absl::GetFlag(FLAGS_max_connection_age_seconds));
+  config.http_listen_address = absl::GetFlag(FLAGS_http_listen);
+  config.http_max_event_streams = absl::GetFlag(FLAGS_http_max_event_streams);
   return config;
 }
 
@@ -226,6 +236,17 @@ int main(int argc, char** argv) {
   }
   if (const std::string port_file = absl::GetFlag(FLAGS_port_file); !port_file.empty()) {
     if (absl::Status written = WritePortFile(port_file, (*server)->port()); !written.ok()) {
+      spdlog::error("event=start_error error=\"{}\"", std::string(written.message()));
+      return 1;
+    }
+  }
+
+  if (const std::string port_file = absl::GetFlag(FLAGS_http_port_file); !port_file.empty()) {
+    if ((*server)->http_port() == 0) {
+      spdlog::error("event=start_error error=\"--http_port_file needs --http_listen\"");
+      return 1;
+    }
+    if (absl::Status written = WritePortFile(port_file, (*server)->http_port()); !written.ok()) {
       spdlog::error("event=start_error error=\"{}\"", std::string(written.message()));
       return 1;
     }

@@ -322,6 +322,7 @@ void IntegerSheetPump::Report(QuantizationPhase phase) {
   event.violated_constraints = rows_.NumViolated();
   event.separating = search_clean_;
   event.elapsed_seconds = clock_.ElapsedSeconds();
+  event.lp_solves = stats_.lp_solves;
   if (observer_->WantsQuantization()) {
     quantization_.ArcValues(&arc_values_);
     event.q = arc_values_;

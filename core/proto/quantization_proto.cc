@@ -140,6 +140,7 @@ v1::Progress ProgressToProto(const ProgressEvent& event) {
   proto.set_separating(event.separating);
   proto.set_elapsed_seconds(event.elapsed_seconds);
   if (event.lower_bound.has_value()) proto.set_lower_bound(*event.lower_bound);
+  proto.set_lp_solves(event.lp_solves);
   return proto;
 }
 

@@ -42,6 +42,9 @@ ABSL_FLAG(int, jobs_per_client, 100, "jobs each client runs, one after the other
 ABSL_FLAG(int, workers, 2, "worker threads of the server");
 ABSL_FLAG(std::string, levels, "1,10,25,100", "resolution levels of the instances");
 ABSL_FLAG(double, max_seconds, 900, "stop starting jobs after this long (the run is bounded)");
+ABSL_FLAG(std::vector<std::string>, server_flags, {},
+          "more flags for the server, comma-separated (e.g. --http_listen=127.0.0.1:8080 to "
+          "measure the HTTP side's overhead)");
 ABSL_FLAG(std::string, out, "", "also write the report (Markdown) to this file");
 
 namespace ispq::testing {
@@ -181,9 +184,12 @@ int Main() {
   std::cerr << "in-process baseline: " << used << " instances...\n";
   SolveInProcess(instances);
 
-  absl::StatusOr<std::unique_ptr<ServerProcess>> server = ServerProcess::Start(
-      ServerBinaryPath(), {absl::StrFormat("--workers=%d", workers), "--log_level=warn",
-                           absl::StrFormat("--retain_finished_jobs=%d", total_jobs + 100)});
+  std::vector<std::string> server_flags = {
+      absl::StrFormat("--workers=%d", workers), "--log_level=warn",
+      absl::StrFormat("--retain_finished_jobs=%d", total_jobs + 100)};
+  for (const std::string& flag : absl::GetFlag(FLAGS_server_flags)) server_flags.push_back(flag);
+  absl::StatusOr<std::unique_ptr<ServerProcess>> server =
+      ServerProcess::Start(ServerBinaryPath(), server_flags);
   if (!server.ok()) {
     std::cerr << server.status() << "\n";
     return 1;

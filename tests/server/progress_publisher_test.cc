@@ -29,6 +29,7 @@ ProgressEvent Report(QuantizationPhase phase, double objective, bool separating,
                        .violated_constraints = 0,
                        .separating = separating,
                        .elapsed_seconds = 0,
+                       .lp_solves = 0,
                        .q = q};
 }
 

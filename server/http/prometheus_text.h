@@ -1,0 +1,25 @@
+// The server's stats (GetServerStats' ispq.v1.ServerStats) in the Prometheus text exposition
+// format 0.0.4, for GET /metrics: gauges of the present (jobs by state, queue length, busy
+// workers, memory budget use by kind, readiness), counters since the start (accepted jobs,
+// rejections by reason, evictions, finished jobs by state) and the solve-time and queue-wait
+// histograms. Names are prefixed `ispq_`; units are seconds and bytes.
+#ifndef ISPQ_SERVER_HTTP_PROMETHEUS_TEXT_H_
+#define ISPQ_SERVER_HTTP_PROMETHEUS_TEXT_H_
+
+#include <string>
+
+#include "ispq/v1/service.pb.h"
+
+namespace ispq::server::http {
+
+// What the HTTP side adds to the service's stats.
+struct HttpGauges {
+  bool ready = false;
+  int open_event_streams = 0;
+};
+
+std::string PrometheusText(const v1::ServerStats& stats, const HttpGauges& http);
+
+}  // namespace ispq::server::http
+
+#endif  // ISPQ_SERVER_HTTP_PROMETHEUS_TEXT_H_

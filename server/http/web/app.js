@@ -1,0 +1,297 @@
+// The ispq web view: lists the server's jobs, starts one from an uploaded T-mesh, and follows a
+// job live over server-sent events (GET /v1/jobs/{id}:watch), drawing its objective over time.
+// Plain JavaScript against the server's JSON API; nothing is loaded from elsewhere.
+'use strict';
+
+const $ = (id) => document.getElementById(id);
+const JOB_LIST_INTERVAL_MS = 1000;
+
+// ---- The API ----------------------------------------------------------------------------------
+
+function token() { return $('token').value.trim(); }
+
+async function api(path, options = {}) {
+  const headers = Object.assign({}, options.headers || {});
+  if (token()) headers['Authorization'] = 'Bearer ' + token();
+  const response = await fetch(path, Object.assign({}, options, { headers }));
+  const text = await response.text();
+  let body = null;
+  try { body = text ? JSON.parse(text) : null; } catch (e) { body = null; }
+  if (!response.ok) {
+    const message = body && body.message ? body.message : text || response.statusText;
+    const status = body && body.status ? body.status : String(response.status);
+    throw new Error(status + ': ' + message);
+  }
+  return body;
+}
+
+// ---- Formatting -------------------------------------------------------------------------------
+
+function jobId(name) { return name.replace(/^jobs\//, ''); }
+function number(value, digits = 4) {
+  if (value === undefined || value === null || value === '') return '—';
+  const n = Number(value);
+  if (!Number.isFinite(n)) return String(value);
+  return Math.abs(n) >= 1e5 || (n !== 0 && Math.abs(n) < 1e-3) ? n.toExponential(digits) : String(+n.toFixed(digits));
+}
+function levelOf(job) {
+  const scaling = job.options && job.options.scaling;
+  if (!scaling) return '—';
+  if (scaling.levelPercent !== undefined) return scaling.levelPercent + ' %';
+  if (scaling.factor !== undefined) return 's=' + scaling.factor;
+  if (scaling.targetHexes !== undefined) return scaling.targetHexes + ' hexes';
+  return '—';
+}
+function phaseName(phase) { return (phase || '—').replace(/^PHASE_/, '').toLowerCase(); }
+
+// ---- The job list -----------------------------------------------------------------------------
+
+let selected = null;  // the job followed, "jobs/{id}"
+
+async function refreshJobs() {
+  try {
+    const page = await api('/v1/jobs?pageSize=50');
+    const jobs = (page && page.jobs) || [];
+    const body = $('jobs').querySelector('tbody');
+    body.replaceChildren(...jobs.map(jobRow));
+    $('jobs-empty').hidden = jobs.length > 0;
+    $('server-status').textContent = 'connected';
+    $('server-status').classList.remove('down');
+  } catch (error) {
+    $('server-status').textContent = 'server: ' + error.message;
+    $('server-status').classList.add('down');
+  } finally {
+    setTimeout(refreshJobs, JOB_LIST_INTERVAL_MS);
+  }
+}
+
+function jobRow(job) {
+  const row = document.createElement('tr');
+  row.dataset.job = job.name;
+  if (job.name === selected) row.classList.add('selected');
+  const result = job.result || {};
+  const cells = [jobId(job.name).slice(0, 8), job.meshDisplayName || '', job.state, levelOf(job),
+                 result.objective !== undefined && job.state === 'SUCCEEDED' ? number(result.objective) : '',
+                 job.state === 'SUCCEEDED' ? String(result.hexes || '') : '',
+                 job.createTime ? new Date(job.createTime).toLocaleTimeString() : ''];
+  for (const text of cells) {
+    const cell = document.createElement('td');
+    cell.textContent = text;
+    row.appendChild(cell);
+  }
+  row.children[2].className = 'state-' + job.state;
+  row.addEventListener('click', () => follow(job.name));
+  return row;
+}
+
+// ---- Starting a job ---------------------------------------------------------------------------
+
+function newRequestId() {
+  if (window.crypto && crypto.randomUUID) return crypto.randomUUID();
+  return 'web-' + Date.now() + '-' + Math.floor(Math.random() * 1e9);
+}
+
+async function submitJob(event) {
+  event.preventDefault();
+  const file = $('mesh-file').files[0];
+  const level = Number($('level').value);
+  if (!file) return;
+  $('submit-job').disabled = true;
+  $('form-message').className = 'message';
+  $('form-message').textContent = 'Uploading ' + file.name + '…';
+  try {
+    const mesh = await file.text();
+    // The file is spliced in as it is (it is the T-mesh's JSON already); the server validates it
+    // and names the offending element if it is not a valid T-mesh.
+    const body = '{"mesh":' + mesh + ',"options":{"scaling":{"levelPercent":' + JSON.stringify(level) +
+                 '}},"progressInterval":"0.05s","requestId":' + JSON.stringify(newRequestId()) + '}';
+    const job = await api('/v1/jobs', { method: 'POST', body, headers: { 'Content-Type': 'application/json' } });
+    $('form-message').textContent = 'Started ' + job.name + ' (' + file.name + ', level ' + level + ' %)';
+    follow(job.name);
+  } catch (error) {
+    $('form-message').className = 'message error';
+    $('form-message').textContent = error.message;
+  } finally {
+    $('submit-job').disabled = false;
+  }
+}
+
+// ---- Following a job --------------------------------------------------------------------------
+
+let source = null;     // the EventSource of the followed job
+let points = [];       // {t, objective, separating}
+let meshName = 'mesh';
+// For tests and the curious: every event received, with the delay from its creation on the server.
+window.ispq = { events: [], latenciesMs: [] };
+
+function follow(name) {
+  if (source) source.close();
+  selected = name;
+  points = [];
+  window.ispq.events = [];
+  window.ispq.latenciesMs = [];
+  $('job-detail').hidden = false;
+  $('job-title').textContent = 'Job ' + jobId(name);
+  for (const id of ['job-state', 'job-phase', 'job-objective', 'job-violated', 'job-separating',
+                    'job-iteration', 'job-rounds', 'job-lp-solves', 'job-elapsed', 'job-arcs']) {
+    $(id).textContent = '—';
+  }
+  $('result').hidden = true;
+  $('job-error').hidden = true;
+  $('cancel-job').hidden = false;
+  for (const row of $('jobs').querySelectorAll('tbody tr')) {
+    row.classList.toggle('selected', row.dataset.job === name);
+  }
+  drawCurve();
+  let url = '/v1/' + name + ':watch';
+  if (token()) url += '?access_token=' + encodeURIComponent(token());
+  source = new EventSource(url);  // reconnects by itself with Last-Event-ID
+  const followed = source;
+  source.onmessage = (message) => { if (source === followed) onEvent(JSON.parse(message.data)); };
+  source.addEventListener('end', (message) => {
+    followed.close();
+    const status = JSON.parse(message.data);
+    if (status.status !== 'OK') showError(status.status + ': ' + status.message);
+    $('cancel-job').hidden = true;
+  });
+  source.onerror = () => {
+    if (followed.readyState === EventSource.CLOSED) showError('the event stream was refused');
+  };
+}
+
+function onEvent(event) {
+  const delay = Date.now() - Date.parse(event.time);
+  window.ispq.events.push(Number(event.sequence));
+  if (Number.isFinite(delay)) window.ispq.latenciesMs.push(delay);
+  if (event.accepted) {
+    meshName = event.accepted.meshDisplayName || 'mesh';
+    $('job-title').textContent = 'Job ' + jobId(event.job) + ' — ' + meshName;
+    $('job-arcs').textContent = event.accepted.meshStats ? event.accepted.meshStats.arcs : '—';
+    $('job-state').textContent = 'accepted (queue position ' + (event.accepted.queuePosition || 0) + ')';
+  }
+  const progress = event.progress || (event.intermediate && event.intermediate.progress);
+  if (progress) showProgress(progress);
+  if (event.result) showResult(event.result);
+  if (event.error) showError(errorText(event.error));
+}
+
+function errorText(error) { return 'the job failed (code ' + (error.code || 0) + '): ' + error.message; }
+
+function showProgress(progress) {
+  $('job-state').textContent = 'running';
+  $('job-phase').textContent = phaseName(progress.phase);
+  $('job-objective').textContent = number(progress.objective);
+  $('job-violated').textContent = progress.violatedConstraints;
+  $('job-separating').textContent = progress.separating ? 'yes' : 'no';
+  $('job-iteration').textContent = progress.iteration;
+  $('job-rounds').textContent = progress.separationRound;
+  $('job-lp-solves').textContent = progress.lpSolves;
+  $('job-elapsed').textContent = number(progress.elapsedSeconds, 3) + ' s';
+  points.push({ t: Number(progress.elapsedSeconds), objective: Number(progress.objective),
+                separating: !!progress.separating });
+  drawCurve();
+}
+
+function showResult(result) {
+  $('job-state').textContent = result.termination === 'CONVERGED' ? 'succeeded' : 'ended: ' + result.termination;
+  $('job-phase').textContent = 'done';
+  $('job-objective').textContent = number(result.objective);
+  const stats = result.stats || {};
+  const last = points.length ? points[points.length - 1].t : 0;
+  points.push({ t: Math.max(last, Number(stats.solveSeconds || 0)), objective: Number(result.objective),
+                separating: !!result.valid });
+  drawCurve();
+  $('result').hidden = false;
+  $('result-valid').textContent = result.valid ? 'yes' : 'NO';
+  $('result-valid').className = result.valid ? 'state-SUCCEEDED' : 'state-FAILED';
+  $('result-objective').textContent = result.objective;
+  $('result-hexes').textContent = result.hexes;
+  $('result-scaling').textContent = number(result.scaling, 6);
+  $('result-termination').textContent = result.termination;
+  $('result-lp-solves').textContent = stats.lpSolves;
+  $('result-solve-seconds').textContent = number(stats.solveSeconds, 3) + ' s';
+  $('job-lp-solves').textContent = stats.lpSolves;
+  const blob = new Blob([JSON.stringify(result, null, 2) + '\n'], { type: 'application/json' });
+  const link = $('download');
+  if (link.href.startsWith('blob:')) URL.revokeObjectURL(link.href);
+  link.href = URL.createObjectURL(blob);
+  link.download = meshName + '.result.json';
+  $('cancel-job').hidden = true;
+}
+
+function showError(text) {
+  $('job-error').hidden = false;
+  $('job-error').textContent = text;
+}
+
+async function cancelJob() {
+  if (!selected) return;
+  try {
+    await api('/v1/' + selected + ':cancel', { method: 'POST' });
+  } catch (error) {
+    showError(error.message);
+  }
+}
+
+// ---- The curve --------------------------------------------------------------------------------
+
+function drawCurve() {
+  const canvas = $('curve');
+  canvas.dataset.points = String(points.length);
+  const g = canvas.getContext('2d');
+  const W = canvas.width, H = canvas.height;
+  const left = 70, right = 16, top = 14, bottom = 40;
+  g.clearRect(0, 0, W, H);
+  g.font = '12px system-ui, sans-serif';
+  g.fillStyle = '#5d6777';
+  g.strokeStyle = '#d8dde6';
+  g.strokeRect(left, top, W - left - right, H - top - bottom);
+  if (points.length === 0) {
+    g.fillText('waiting for progress events…', left + 12, top + 24);
+    return;
+  }
+  const ts = points.map((p) => p.t), ys = points.map((p) => p.objective);
+  const tMax = Math.max(...ts) || 1e-3;
+  let yMin = Math.min(...ys), yMax = Math.max(...ys);
+  // Objectives fall by orders of magnitude early on: a log scale keeps the tail readable.
+  const log = yMin > 0 && yMax / yMin > 20;
+  const f = (y) => (log ? Math.log10(y) : y);
+  let lo = f(yMin), hi = f(yMax);
+  if (hi - lo < 1e-12) { lo -= 1; hi += 1; }
+  const x = (t) => left + (t / tMax) * (W - left - right);
+  const y = (v) => top + (1 - (f(v) - lo) / (hi - lo)) * (H - top - bottom);
+  // Axes labels.
+  g.textAlign = 'right';
+  for (let i = 0; i <= 4; i++) {
+    const value = log ? Math.pow(10, lo + (hi - lo) * i / 4) : lo + (hi - lo) * i / 4;
+    const py = top + (1 - i / 4) * (H - top - bottom);
+    g.fillText(number(value, 2), left - 6, py + 4);
+    g.beginPath(); g.moveTo(left, py); g.lineTo(W - right, py); g.stroke();
+  }
+  g.textAlign = 'center';
+  for (let i = 0; i <= 4; i++) {
+    g.fillText(number(tMax * i / 4, 2) + ' s', x(tMax * i / 4), H - bottom + 16);
+  }
+  g.fillText('solve time', left + (W - left - right) / 2, H - 6);
+  g.save(); g.translate(14, top + (H - top - bottom) / 2); g.rotate(-Math.PI / 2);
+  g.fillText('objective' + (log ? ' (log)' : ''), 0, 0); g.restore();
+  // The curve, then its points coloured by separation.
+  g.strokeStyle = '#1f6feb';
+  g.lineWidth = 2;
+  g.beginPath();
+  points.forEach((p, i) => (i ? g.lineTo(x(p.t), y(p.objective)) : g.moveTo(x(p.t), y(p.objective))));
+  g.stroke();
+  for (const p of points) {
+    g.fillStyle = p.separating ? '#1a7f37' : '#b35900';
+    g.beginPath(); g.arc(x(p.t), y(p.objective), 3, 0, 2 * Math.PI); g.fill();
+  }
+}
+
+// ---- Start ------------------------------------------------------------------------------------
+
+$('upload-form').addEventListener('submit', submitJob);
+$('cancel-job').addEventListener('click', cancelJob);
+$('token').value = sessionStorage.getItem('ispq-token') || '';
+$('token').addEventListener('change', () => sessionStorage.setItem('ispq-token', token()));
+drawCurve();
+refreshJobs();
