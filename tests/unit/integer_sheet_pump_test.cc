@@ -31,6 +31,8 @@ std::vector<Variant> Variants() {
       {"no_repair", [](IspTuning& t) { t.repair_attempts = 0; }},
       {"failsafe_only", [](IspTuning& t) { t.failsafe_separation_only = true; }},
       {"no_thorough_pass", [](IspTuning& t) { t.thorough_final_pass = false; }},
+      {"all_rows_at_once", [](IspTuning& t) { t.max_new_rows_per_search = 1 << 30; }},
+      {"one_row_per_search", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
       {"primal_simplex", [](IspTuning&) {}, {.algorithm = ClpAlgorithm::kPrimal}},
       {"cold_factorization", [](IspTuning&) {}, {.keep_factorization = false}},
   };
