@@ -25,8 +25,10 @@ namespace {
 // improving sheet: max(kSkipFraction * bundles, kMinSkip).
 constexpr double kSkipFraction = 0.5;
 constexpr int kMinSkip = 30;
-// Safety net against a separation loop that stops making progress.
+// Safety nets against a separation loop that stops making progress: rounds that end in a greedy
+// descent, and searches repeated right after a separating update because rows were left over.
 constexpr int kMaxSeparationRounds = 500;
+constexpr int kMaxRepeatedSearches = 5000;
 
 class IntegerSheetPump {
  public:
@@ -67,7 +69,9 @@ class IntegerSheetPump {
   absl::StatusOr<bool> SeparatingUpdate();
   absl::StatusOr<bool> SeparateSubproblem(int32_t id);
   absl::StatusOr<bool> FailsafeSubproblem(int32_t id);
-  // One lazy separation round on the current q; returns the number of violations found.
+  // One lazy separation round on the current q: activates the rows of at most
+  // tuning_.max_new_rows_per_search violations and sets rows_left_over_ if more were found;
+  // returns the number of violations found.
   int64_t SearchRound(std::vector<int32_t>* new_rows);
 
   void Report(QuantizationPhase phase);
@@ -95,7 +99,8 @@ class IntegerSheetPump {
   std::vector<int64_t> arc_values_;
 
   bool changed_since_search_ = true;
-  bool search_clean_ = false;  // the current q passed the simple rows and a search
+  bool rows_left_over_ = false;  // the last search found violations whose rows were not activated
+  bool search_clean_ = false;    // the current q passed the simple rows and a search
   int64_t accepted_sheets_ = 0;
   bool has_valid_ = false;
   double best_valid_objective_ = 0;
@@ -108,9 +113,12 @@ class IntegerSheetPump {
 absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
   // The first descent runs with consistency and C rows only.
   ISPQ_RETURN_IF_ERROR(Greedy(false, QuantizationPhase::kGreedy).status());
-  for (int round = 0; round < kMaxSeparationRounds && !clock_.ShouldStop(); ++round) {
+  int rounds = 0, repeated_searches = 0;
+  while (rounds < kMaxSeparationRounds && repeated_searches < kMaxRepeatedSearches &&
+         !clock_.ShouldStop()) {
     std::vector<int32_t> new_rows;
     int64_t found = 0;
+    rows_left_over_ = false;
     if (!rows_.simple_rows_active() && rows_.AnyHeldSimpleRowViolated()) {
       new_rows = rows_.ActivateSimpleRows(subproblems_);
     } else if (rows_.store().num_violated_active() == 0 && changed_since_search_) {
@@ -126,13 +134,22 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
     if (rows_.store().num_violated_active() > 0) {
       ISPQ_ASSIGN_OR_RETURN(const bool separated, SeparatingUpdate());
       if (!separated && new_rows.empty()) break;  // stuck: nothing new and nothing fixable
+      // The update often separates what the left-over violations were about, by another path
+      // than the one their rows name: search again before descending, so those rows are only
+      // enforced if the violations persist.
+      if (separated && rows_left_over_ && rows_.store().num_violated_active() == 0) {
+        ++repeated_searches;
+        continue;
+      }
       ISPQ_RETURN_IF_ERROR(Greedy(false, QuantizationPhase::kGreedy).status());
+      ++rounds;
       continue;
     }
     // Violations reported, but all of them rows that already hold: no way forward.
     if (found > 0 || !search_clean_ || !tuning_.thorough_final_pass) break;
     ISPQ_ASSIGN_OR_RETURN(const bool improved, Greedy(true, QuantizationPhase::kFinal));
     if (!improved) break;
+    ++rounds;
   }
   return Finish();
 }
@@ -305,7 +322,10 @@ int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
   }
   ++stats_.separation_rounds;
   changed_since_search_ = false;
-  stats_.separation_rows += rows_.AddViolations(violations, subproblems_, new_rows);
+  const SeparationRows::Added added =
+      rows_.AddViolations(violations, tuning_.max_new_rows_per_search, subproblems_, new_rows);
+  stats_.separation_rows += added.activated;
+  rows_left_over_ = added.dropped;
   return static_cast<int64_t>(violations.size());
 }
 

@@ -98,11 +98,17 @@ std::vector<int32_t> SeparationRows::ActivateSimpleRows(SubproblemSet& subproble
   return to_attach;
 }
 
-int64_t SeparationRows::AddViolations(std::span<const SeparationViolation> violations,
-                                      SubproblemSet& subproblems, std::vector<int32_t>* to_attach) {
-  int64_t activated = 0;
+SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationViolation> violations,
+                                                    int64_t max_new_rows,
+                                                    SubproblemSet& subproblems,
+                                                    std::vector<int32_t>* to_attach) {
+  Added added;
   std::vector<LinearTerm> default_terms, failsafe_terms;
   for (const SeparationViolation& v : violations) {
+    if (added.activated >= max_new_rows) {
+      added.dropped = true;
+      break;
+    }
     failsafe_terms = bundles_.ToBundleTerms(v.failsafe_row.terms);
     default_terms = bundles_.ToBundleTerms(v.default_row.terms);
     int64_t default_rhs = v.default_row.rhs;
@@ -116,10 +122,10 @@ int64_t SeparationRows::AddViolations(std::span<const SeparationViolation> viola
     if (r == kNoId) {
       r = Add(default_terms, default_rhs, RowOrigin::kStructural, true);
       to_attach->push_back(r);
-      ++activated;
+      ++added.activated;
     } else if (!rows_.active(r)) {
       Activate(r, subproblems, to_attach);
-      ++activated;
+      ++added.activated;
     }
     is_default_[r] = 1;
     if (failsafe_of_[r] == kNoId) {
@@ -128,7 +134,7 @@ int64_t SeparationRows::AddViolations(std::span<const SeparationViolation> viola
       failsafe_of_[r] = f;
     }
   }
-  return activated;
+  return added;
 }
 
 std::vector<SeparationRows::Swap> SeparationRows::UseFailsafeForms(int32_t subproblem_id,

@@ -48,10 +48,17 @@ class SeparationRows {
   // Activates every simple row (all or nothing); returns the rows to attach.
   std::vector<int32_t> ActivateSimpleRows(SubproblemSet& subproblems);
 
-  // Adds the rows of a search round, each as a default row with its failsafe twin; appends the
-  // rows to attach to `to_attach` and returns how many rows became active.
-  int64_t AddViolations(std::span<const SeparationViolation> violations, SubproblemSet& subproblems,
-                        std::vector<int32_t>* to_attach);
+  // What AddViolations did with the violations of one search.
+  struct Added {
+    int64_t activated = 0;  // rows that became active
+    bool dropped = false;   // violations were left over once max_new_rows rows were active
+  };
+  // Adds the rows of a search round in their order, each as a default row with its failsafe
+  // twin, until `max_new_rows` rows became active; the violations after that are dropped (a later
+  // search finds them again if they are still violated). Appends the rows to attach to
+  // `to_attach`.
+  Added AddViolations(std::span<const SeparationViolation> violations, int64_t max_new_rows,
+                      SubproblemSet& subproblems, std::vector<int32_t>* to_attach);
 
   // A default row of `subproblem` and the failsafe twin standing in for it.
   using Swap = std::pair<int32_t, int32_t>;

@@ -98,6 +98,8 @@ int Run() {
       {"integer_dive=false", [](IspTuning& t) { t.integer_dive = false; }},
       {"failsafe_separation_only=true", [](IspTuning& t) { t.failsafe_separation_only = true; }},
       {"thorough_final_pass=false", [](IspTuning& t) { t.thorough_final_pass = false; }},
+      {"max_new_rows_per_search=all", [](IspTuning& t) { t.max_new_rows_per_search = 1 << 30; }},
+      {"max_new_rows_per_search=1", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
   };
   std::printf("%-36s %5s %7s %10s %10s %9s %10s %8s\n", "variant", "runs", "invalid", "mean ratio",
               "sum ratio", "vs dflt", "LP solves", "cpu s");
