@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <optional>
 
+#include "absl/container/flat_hash_map.h"
 #include "core/block_extents.h"
 #include "core/simple_constraints.h"
 
@@ -104,15 +105,19 @@ SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationVi
                                                     std::vector<int32_t>* to_attach) {
   Added added;
   std::vector<LinearTerm> default_terms, failsafe_terms;
+  // The cap holds per subproblem (of the row's first bundle): independent parts of a mesh each
+  // get their rows in the same round, or a mesh of many parts would need a round per row pair.
+  absl::flat_hash_map<int32_t, int64_t> activated_in;
   for (const SeparationViolation& v : violations) {
-    if (added.activated >= max_new_rows) {
-      added.dropped = true;
-      break;
-    }
     failsafe_terms = bundles_.ToBundleTerms(v.failsafe_row.terms);
     default_terms = bundles_.ToBundleTerms(v.default_row.terms);
     int64_t default_rhs = v.default_row.rhs;
     if (failsafe_terms.empty()) continue;  // cannot happen for +1 rows with terms
+    int64_t& activated = activated_in[subproblems.IdOf(failsafe_terms.front().var)];
+    if (activated >= max_new_rows) {
+      added.dropped = true;
+      continue;
+    }
     // A default row whose mixed terms cancel within a bundle can never hold: use B+ for it.
     if (default_terms.empty()) {
       default_terms = failsafe_terms;
@@ -123,9 +128,11 @@ SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationVi
       r = Add(default_terms, default_rhs, RowOrigin::kStructural, true);
       to_attach->push_back(r);
       ++added.activated;
+      ++activated;
     } else if (!rows_.active(r)) {
       Activate(r, subproblems, to_attach);
       ++added.activated;
+      ++activated;
     }
     is_default_[r] = 1;
     if (failsafe_of_[r] == kNoId) {

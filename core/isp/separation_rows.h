@@ -54,9 +54,9 @@ class SeparationRows {
     bool dropped = false;   // violations were left over once max_new_rows rows were active
   };
   // Adds the rows of a search round in their order, each as a default row with its failsafe
-  // twin, until `max_new_rows` rows became active; the violations after that are dropped (a later
-  // search finds them again if they are still violated). Appends the rows to attach to
-  // `to_attach`.
+  // twin, until `max_new_rows` rows became active in a subproblem; that subproblem's later
+  // violations are dropped (a later search finds them again if they are still violated). Appends
+  // the rows to attach to `to_attach`.
   Added AddViolations(std::span<const SeparationViolation> violations, int64_t max_new_rows,
                       SubproblemSet& subproblems, std::vector<int32_t>* to_attach);
 

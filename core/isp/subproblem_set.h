@@ -38,6 +38,7 @@ class SubproblemSet {
   SubproblemSet& operator=(const SubproblemSet&) = delete;
 
   SheetSubproblem& Of(BundleId b) { return *subproblems_[subproblem_of_bundle_[b]]; }
+  int32_t IdOf(BundleId b) const { return subproblem_of_bundle_[b]; }
   // Ids of the subproblems with a violated active row, ascending.
   std::vector<int32_t> WithViolatedRows() const;
   SheetSubproblem& at(int32_t id) { return *subproblems_[id]; }

@@ -12,7 +12,7 @@
 #include "gtest/gtest.h"
 #include "ispq/v1/service.grpc.pb.h"
 #include "tests/integration/service_test_support.h"
-#include "tests/integration/tmesh_copies.h"
+#include "tests/support/tmesh_copies.h"
 
 namespace ispq::testing {
 namespace {

@@ -20,7 +20,7 @@
 #include "tests/integration/process_memory.h"
 #include "tests/integration/raw_call.h"
 #include "tests/integration/service_test_support.h"
-#include "tests/integration/tmesh_copies.h"
+#include "tests/support/tmesh_copies.h"
 
 namespace ispq::testing {
 namespace {

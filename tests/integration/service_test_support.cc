@@ -13,7 +13,7 @@
 #include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
-#include "tests/integration/tmesh_copies.h"
+#include "tests/support/tmesh_copies.h"
 #include "tests/support/test_data.h"
 
 namespace ispq::testing {

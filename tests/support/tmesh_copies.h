@@ -6,8 +6,8 @@
 // independent subproblems solved one after another), so a test measures one copy in-process
 // and picks k for the duration it needs. The copies are real data: every id is offset into its
 // copy's range, so the result is a valid T-mesh of k components.
-#ifndef ISPQ_TESTS_INTEGRATION_TMESH_COPIES_H_
-#define ISPQ_TESTS_INTEGRATION_TMESH_COPIES_H_
+#ifndef ISPQ_TESTS_SUPPORT_TMESH_COPIES_H_
+#define ISPQ_TESTS_SUPPORT_TMESH_COPIES_H_
 
 #include "ispq/v1/tmesh.pb.h"
 
@@ -20,4 +20,4 @@ v1::TMesh DisjointCopies(const v1::TMesh& mesh, int copies);
 
 }  // namespace ispq::testing
 
-#endif  // ISPQ_TESTS_INTEGRATION_TMESH_COPIES_H_
+#endif  // ISPQ_TESTS_SUPPORT_TMESH_COPIES_H_

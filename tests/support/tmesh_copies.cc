@@ -1,4 +1,4 @@
-#include "tests/integration/tmesh_copies.h"
+#include "tests/support/tmesh_copies.h"
 
 #include <cstdint>
 
