@@ -84,14 +84,24 @@ class MetricsTest(unittest.TestCase):
             self.assertEqual(int(stats["rejectedInvalidTotal"]), 1)
 
 
+FEMUR = ("2017_-_Explicit_Cylindrical_Maps_for_General_Tubular_Shapes_femur_shell1"
+         ".tmesh.json")
+
+
 class ProbesTest(unittest.TestCase):
     def test_health_and_readiness(self):
         # One worker, one queue slot: a running job plus a queued one fill the server.
         with ispq.Server("--workers=1", "--max_queued_jobs=1") as server:
             self.assertEqual(server.request("GET", "/healthz")[0], 200)
             self.assertEqual(server.request("GET", "/readyz")[0], 200)
-            notch = json.loads(ispq.bundled("s07c_notch.tmesh.json"))
-            long_mesh = json.dumps(disjoint_copies(notch, 120))
+            # Jobs that are still running when the test acts: of the shared meshes, femur_shell1
+            # costs the most solve time per byte (0.43 s at level 100 for 257 KB), so 20 copies
+            # run for several seconds in a request of 5 MB, on any machine and however fast the
+            # quantizer becomes (120 copies of the notch took 0.7 s and finished too soon).
+            femur = os.path.join(ispq.DATA, "..", "..", "..", "shared", "data", "tmesh",
+                                 "metamesh-guided-hexalab", FEMUR)
+            with open(femur) as f:
+                long_mesh = json.dumps(disjoint_copies(json.load(f), 20))
             running = server.submit(long_mesh, 100)["name"]
             queued = server.submit(long_mesh, 100)["name"]
             status, headers, text = server.request(
