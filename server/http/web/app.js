@@ -211,6 +211,12 @@ function showResult(result) {
   $('result-lp-solves').textContent = stats.lpSolves;
   $('result-solve-seconds').textContent = number(stats.solveSeconds, 3) + ' s';
   $('job-lp-solves').textContent = stats.lpSolves;
+  $('job-elapsed').textContent = number(stats.solveSeconds, 3) + ' s';
+  // The last progress event may predate the final checks; a valid result passed all of them.
+  if (result.valid) {
+    $('job-violated').textContent = 0;
+    $('job-separating').textContent = 'yes';
+  }
   const blob = new Blob([JSON.stringify(result, null, 2) + '\n'], { type: 'application/json' });
   const link = $('download');
   if (link.href.startsWith('blob:')) URL.revokeObjectURL(link.href);
