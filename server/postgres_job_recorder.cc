@@ -42,9 +42,7 @@ bool PostgresJobRecorder::ReleasedForDrain(Job& job, const v1::QuantizeEvent& ev
 
 void PostgresJobRecorder::Record(Job& job, const v1::QuantizeEvent* event) {
   if (event != nullptr && ReleasedForDrain(job, *event)) return;
-  v1::Job summary = job.ToProto(v1::BASIC);
-  summary.clear_result();
-  summary.clear_error();
+  const v1::Job summary = RowSummary(job);
   const bool done = summary.done();
   const int64_t end_ns =
       done ? google::protobuf::util::TimeUtil::TimestampToNanoseconds(summary.end_time()) : 0;

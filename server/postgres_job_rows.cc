@@ -24,6 +24,13 @@ pqxx::binarystring ProtoBytes(const google::protobuf::MessageLite& message) {
   return pqxx::binarystring(message.SerializeAsString());
 }
 
+v1::Job RowSummary(const Job& job) {
+  v1::Job summary = job.ToProto(v1::BASIC);
+  summary.clear_result();
+  summary.clear_error();
+  return summary;
+}
+
 StoredEventKind EventKind(const v1::QuantizeEvent& event) {
   switch (event.kind_case()) {
     case v1::QuantizeEvent::kAccepted:

@@ -13,6 +13,7 @@
 #include "google/protobuf/message_lite.h"
 #include "ispq/v1/service.pb.h"
 #include "pqxx/pqxx"
+#include "server/job.h"
 #include "server/job_store.h"
 #include "server/postgres_schema.h"
 
@@ -32,6 +33,9 @@ struct StoredJob {
 };
 
 pqxx::binarystring ProtoBytes(const google::protobuf::MessageLite& message);
+// The summary a job row keeps: the basic view without result or error, which live in the
+// terminal event.
+v1::Job RowSummary(const Job& job);
 StoredEventKind EventKind(const v1::QuantizeEvent& event);
 bool IsTerminal(v1::JobState state);
 

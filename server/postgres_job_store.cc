@@ -100,9 +100,7 @@ absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::Add(std::shared_ptr<Job> 
                                                            const std::string& request,
                                                            absl::Time now) {
   const JobSpec& spec = job->spec();
-  v1::Job summary = job->ToProto(v1::BASIC);
-  summary.clear_result();
-  summary.clear_error();
+  const v1::Job summary = RowSummary(*job);
   const std::optional<v1::QuantizeEvent> accepted = job->NextForStream(0).event;
   std::optional<std::string> existing;  // the job an earlier call with the request id created
   bool different_request = false;

@@ -159,19 +159,11 @@ grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContex
                                                       const grpc::ByteBuffer* request,
                                                       grpc::ByteBuffer* response) {
   auto* call = new UnaryCall(context, response, &memory_);
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
-  if (!principal.ok()) {
-    call->Fail(principal.status());
-    return call;
-  }
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
-  if (!raw.ok()) {
-    call->Fail(raw.status());
-    return call;
-  }
+  std::optional<AcceptedRequest> accepted = Accept(*call, request, kNoSizeLimit);
+  if (!accepted.has_value()) return call;
   JobSubmission submission;
-  submission.principal = *std::move(principal);
-  submission.raw = *std::move(raw);
+  submission.principal = std::move(accepted->principal);
+  submission.raw = std::move(accepted->raw);
   submission.peer = context->peer();
   submission.abandoned = [context] { return context->IsCancelled(); };
   submission.answer = [call](const JobSubmission::Outcome& job) { AnswerJob(*call, job); };
@@ -185,6 +177,21 @@ void QuantizerService::Submit(JobSubmission submission) {
   if (!Dispatch(size, [this, shared] { AdmitSubmission(shared); })) {
     shared->answer(AdmissionPoolFull());
   }
+}
+
+std::optional<QuantizerService::AcceptedRequest> QuantizerService::Accept(
+    UnaryCall& call, const grpc::ByteBuffer* request, int64_t max_bytes) {
+  absl::StatusOr<Principal> principal = authenticator_.Authenticate(call.context());
+  if (!principal.ok()) {
+    call.Fail(principal.status());
+    return std::nullopt;
+  }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, max_bytes, memory_);
+  if (!raw.ok()) {
+    call.Fail(raw.status());
+    return std::nullopt;
+  }
+  return AcceptedRequest{*std::move(principal), *std::move(raw)};
 }
 
 void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job) {
@@ -233,20 +240,12 @@ grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerConte
                                                        const grpc::ByteBuffer* request,
                                                        grpc::ByteBuffer* response) {
   auto* call = new UnaryCall(context, response, &memory_);
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
-  if (!principal.ok()) {
-    call->Fail(principal.status());
-    return call;
-  }
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
-  if (!raw.ok()) {
-    call->Fail(raw.status());
-    return call;
-  }
-  const int64_t size = raw->size;
-  const bool dispatched =
-      Dispatch(size, [this, call, principal = *std::move(principal),
-                      raw = *std::move(raw)]() mutable { AdmitCreateMesh(*call, principal, raw); });
+  std::optional<AcceptedRequest> accepted = Accept(*call, request, kNoSizeLimit);
+  if (!accepted.has_value()) return call;
+  const int64_t size = accepted->raw.size;
+  const bool dispatched = Dispatch(size, [this, call, accepted = *std::move(accepted)]() mutable {
+    AdmitCreateMesh(*call, accepted.principal, accepted.raw);
+  });
   if (!dispatched) call->Fail(AdmissionPoolFull());
   return call;
 }
@@ -295,22 +294,15 @@ grpc::ServerUnaryReactor* QuantizerService::Lookup(grpc::CallbackServerContext* 
                                                    const grpc::ByteBuffer* request,
                                                    grpc::ByteBuffer* response, Handler&& handler) {
   auto* call = new UnaryCall(context, response, &memory_);
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
-  if (!principal.ok()) {
-    call->Fail(principal.status());
-    return call;
-  }
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
-  if (!raw.ok()) {
-    call->Fail(raw.status());
-    return call;
-  }
-  absl::StatusOr<ParsedRequest<Request>> parsed = ParseWithinBudget<Request>(*raw, memory_);
+  std::optional<AcceptedRequest> accepted = Accept(*call, request, kMaxLookupRequestBytes);
+  if (!accepted.has_value()) return call;
+  absl::StatusOr<ParsedRequest<Request>> parsed =
+      ParseWithinBudget<Request>(accepted->raw, memory_);
   if (!parsed.ok()) {
     call->Fail(parsed.status());
     return call;
   }
-  auto answer = std::forward<Handler>(handler)(parsed->message, *principal);
+  auto answer = std::forward<Handler>(handler)(parsed->message, accepted->principal);
   if (answer.ok()) {
     call->Answer(*answer);
   } else {

@@ -20,6 +20,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -152,6 +153,14 @@ class QuantizerService final : public RawQuantizerService {
                                                 const v1::QuantizeRequest& request,
                                                 int64_t request_bytes, bool bound_to_call,
                                                 std::string fingerprint = "");
+  // What every unary method does first: the caller's principal and the request's bytes (at most
+  // `max_bytes`, counted in the memory budget). Nothing if either fails; `call` has then failed.
+  struct AcceptedRequest {
+    Principal principal;
+    RawRequest raw;
+  };
+  std::optional<AcceptedRequest> Accept(UnaryCall& call, const grpc::ByteBuffer* request,
+                                        int64_t max_bytes);
   // Answers a SubmitJob with its job or error.
   static void AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job);
 
