@@ -11,9 +11,18 @@ GreedyQueue::GreedyQueue(const BundleQuantization& quantization, const Inequalit
       users_(quantization.num_bundles()),
       mark_(quantization.num_bundles(), 0) {}
 
+namespace {
+
+// Recorded dependencies per bundle beyond which outdated ones are dropped.
+constexpr int64_t kDependenciesPerBundle = 32;
+
+}  // namespace
+
 void GreedyQueue::Reset() {
+  started_ = true;
   heap_ = {};
   for (auto& list : users_) list.clear();
+  num_dependencies_ = 0;
   for (BundleId b = 0; b < quantization_.num_bundles(); ++b) Push(b);
 }
 
@@ -39,16 +48,43 @@ bool GreedyQueue::Mark(BundleId b) {
 
 void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> support) {
   const int32_t stamp = stamp_[root];
+  if (num_dependencies_ > kDependenciesPerBundle * static_cast<int64_t>(users_.size())) {
+    DropOutdatedDependencies();
+  }
   if (!support.empty()) {
     for (BundleId c : support) users_[c].push_back({root, stamp});
+    num_dependencies_ += static_cast<int64_t>(support.size());
     return;
   }
   // No sheet (infeasible LP): what could change that is the slack of the rows around the root.
   users_[root].push_back({root, stamp});
+  ++num_dependencies_;
   for (const InequalityRows::Incidence& inc : rows_.rows_of_bundle(root)) {
     if (!rows_.active(inc.row)) continue;
     for (const LinearTerm& t : rows_.terms(inc.row)) users_[t.var].push_back({root, stamp});
+    num_dependencies_ += static_cast<int64_t>(rows_.terms(inc.row).size());
   }
+}
+
+void GreedyQueue::DropOutdatedDependencies() {
+  num_dependencies_ = 0;
+  for (auto& list : users_) {
+    std::erase_if(list, [&](const auto& user) { return user.second != stamp_[user.first]; });
+    num_dependencies_ += static_cast<int64_t>(list.size());
+  }
+}
+
+void GreedyQueue::RequeueUsers(BundleId c) {
+  for (const auto& [root, stamp] : users_[c]) {
+    if (stamp_[root] == stamp && Mark(root)) Push(root);
+  }
+  num_dependencies_ -= static_cast<int64_t>(users_[c].size());
+  users_[c].clear();
+}
+
+void GreedyQueue::RequeueUsersOf(std::span<const BundleId> bundles) {
+  ++epoch_;
+  for (BundleId c : bundles) RequeueUsers(c);
 }
 
 void GreedyQueue::RequeueAfter(const IntegerSheet& sheet) {
@@ -67,12 +103,7 @@ void GreedyQueue::RequeueAfter(const IntegerSheet& sheet) {
   }
   // A new epoch marks the roots queued again, each once.
   ++epoch_;
-  for (BundleId c : affected_) {
-    for (const auto& [root, stamp] : users_[c]) {
-      if (stamp_[root] == stamp && Mark(root)) Push(root);
-    }
-    users_[c].clear();
-  }
+  for (BundleId c : affected_) RequeueUsers(c);
   for (BundleId b : sheet.bundles) {
     if (Mark(b)) Push(b);
   }

@@ -6,6 +6,12 @@
 // the LP was infeasible, the root and the bundles sharing an active row with it); an accepted
 // sheet then re-queues exactly the roots whose last solve depended on a bundle it moved or on a
 // row whose slack it changed, instead of re-solving every root.
+//
+// The queue outlives a pass: the roots a pass did not reach stay queued, and the dependencies of
+// the roots it did reach stay recorded, so the next pass starts from what changed since (sheets
+// applied in between, rows that joined) instead of from every bundle again. A new row cannot
+// change the answer of a root whose sheet leaves all the row's bundles alone: that sheet still
+// satisfies it and the LP only lost solutions.
 #ifndef ISPQ_CORE_ISP_GREEDY_QUEUE_H_
 #define ISPQ_CORE_ISP_GREEDY_QUEUE_H_
 
@@ -30,6 +36,10 @@ class GreedyQueue {
 
   // Every bundle queued once, every recorded dependency forgotten.
   void Reset();
+  // Whether Reset() ran since construction.
+  bool started() const { return started_; }
+  // Dependencies recorded and not yet used or dropped (bounded by a multiple of the bundles).
+  int64_t num_recorded_dependencies() const { return num_dependencies_; }
   // The next root whose entry is current, or nullopt when none is left.
   std::optional<BundleId> Pop();
   // What the last solve of `root` depended on: the bundles of its sheet (`support`), or, for an
@@ -38,6 +48,9 @@ class GreedyQueue {
   // After `sheet` was applied: re-queues every root whose last solve depended on what changed,
   // and the bundles of the sheet themselves.
   void RequeueAfter(const IntegerSheet& sheet);
+  // After rows over these bundles joined the active rows: re-queues every root whose last solve
+  // depended on one of them.
+  void RequeueUsersOf(std::span<const BundleId> bundles);
 
  private:
   struct Entry {
@@ -54,6 +67,11 @@ class GreedyQueue {
   };
 
   void Push(BundleId b);
+  // Re-queues the current users of bundle c (once per epoch) and forgets them.
+  void RequeueUsers(BundleId c);
+  // Drops the recorded dependencies of solves that are no longer a root's last one, once they
+  // outnumber the bundles by far (they are only dropped otherwise when their bundle changes).
+  void DropOutdatedDependencies();
   // Marks b in the current epoch; true if it was not marked yet.
   bool Mark(BundleId b);
 
@@ -63,6 +81,8 @@ class GreedyQueue {
   std::vector<int32_t> stamp_;
   // Per bundle, the (root, stamp) of the solves that depended on it.
   std::vector<std::vector<std::pair<BundleId, int32_t>>> users_;
+  int64_t num_dependencies_ = 0;
+  bool started_ = false;
   std::vector<uint32_t> mark_;
   uint32_t epoch_ = 0;
   std::vector<BundleId> affected_;

@@ -48,7 +48,8 @@ class IntegerSheetPump {
                      rows_.Floors(), mesh.num_arcs(), new_lp, options.decompose),
         separation_(mesh, options.separation),
         steps_(quantization_, rows_.store(), tuning, clock_, stats_),
-        queue_(quantization_, rows_.store()) {}
+        queue_(quantization_, rows_.store()),
+        thorough_queue_(quantization_, rows_.store()) {}
 
   absl::StatusOr<IspOutcome> Run();
 
@@ -63,6 +64,8 @@ class IntegerSheetPump {
   // blocks the bundles it made worse from moving that way and solves again.
   absl::StatusOr<bool> SteerAroundWorsenedBundles(BundleId root, SheetRequest& request, bool found);
   void Apply(const SheetStep& step);
+  // Rows joined the active rows: the roots whose last sheet crossed them are pumped again.
+  void RequeueUsersOfRows(std::span<const int32_t> new_rows);
   double Tolerance() const { return 1e-9 * (1.0 + std::abs(quantization_.objective())); }
 
   // Separating updates (Alg. 3, App. B): one solve per subproblem with violated rows.
@@ -92,7 +95,10 @@ class IntegerSheetPump {
   SubproblemSet subproblems_;
   SeparationCheck separation_;
   SheetStepFinder steps_;
+  // The roots of ordinary and of thorough passes: each pass goes on from what changed since the
+  // last pass of its kind (core/isp/greedy_queue.h).
   GreedyQueue queue_;
+  GreedyQueue thorough_queue_;
 
   SheetStep step_;
   std::vector<std::pair<BundleId, bool>> blocked_;
@@ -130,6 +136,7 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
       Report(QuantizationPhase::kSeparation);
     }
     subproblems_.Attach(new_rows);
+    RequeueUsersOfRows(new_rows);
 
     if (rows_.store().num_violated_active() > 0) {
       ISPQ_ASSIGN_OR_RETURN(const bool separated, SeparatingUpdate());
@@ -159,15 +166,17 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
 
 absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase phase) {
   ScopedCpuSeconds timer(&stats_.greedy_seconds);
-  queue_.Reset();
+  GreedyQueue& queue = thorough ? thorough_queue_ : queue_;
+  if (!queue.started()) queue.Reset();
   const double skip_limit =
       std::max(kSkipFraction * quantization_.num_bundles(), double{1} * kMinSkip);
   bool changed = false;
   int64_t skipped = 0;
-  // One pass: the queue re-queues the roots each accepted sheet affects, so when it runs dry (or
-  // a non-thorough pass meets skip_limit unproductive roots in a row) the pass has converged.
+  // One pass: the queue holds the roots that every sheet applied since they were last pumped (in
+  // this pass or before it) affects, so when it runs dry (or a non-thorough pass meets skip_limit
+  // unproductive roots in a row) the pass has converged. The first pass of each kind pumps all.
   while (thorough || static_cast<double>(skipped) < skip_limit) {
-    const std::optional<BundleId> root = queue_.Pop();
+    const std::optional<BundleId> root = queue.Pop();
     if (!root.has_value()) break;
     ISPQ_ASSIGN_OR_RETURN(const bool accepted, PumpRoot(*root, thorough));
     if (clock_.stopped()) return changed;
@@ -178,7 +187,6 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
     skipped = 0;
     changed = true;
     Report(phase);
-    queue_.RequeueAfter(step_.sheet);
   }
   return changed;
 }
@@ -194,7 +202,7 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     request.allow_deflation = options_.mixed_sign || !inflate;
     ISPQ_ASSIGN_OR_RETURN(bool found, steps_.Find(subproblems_.Of(root), request, &step_));
     if (clock_.stopped()) return false;
-    queue_.RecordDependencies(
+    (thorough ? thorough_queue_ : queue_).RecordDependencies(
         root, found ? std::span<const BundleId>(step_.sheet.bundles) : std::span<const BundleId>());
     if (thorough) {
       ISPQ_ASSIGN_OR_RETURN(found, SteerAroundWorsenedBundles(root, request, found));
@@ -228,6 +236,15 @@ absl::StatusOr<bool> IntegerSheetPump::SteerAroundWorsenedBundles(BundleId root,
   return found;
 }
 
+void IntegerSheetPump::RequeueUsersOfRows(std::span<const int32_t> new_rows) {
+  std::vector<BundleId> bundles;
+  for (int32_t r : new_rows) {
+    for (const LinearTerm& t : rows_.store().terms(r)) bundles.push_back(t.var);
+  }
+  queue_.RequeueUsersOf(bundles);
+  thorough_queue_.RequeueUsersOf(bundles);
+}
+
 void IntegerSheetPump::Apply(const SheetStep& step) {
   const IntegerSheet& sheet = step.sheet;
   quantization_.Apply(sheet, step.t);
@@ -247,6 +264,8 @@ void IntegerSheetPump::Apply(const SheetStep& step) {
       ++stats_.sheets_mixed;
       break;
   }
+  queue_.RequeueAfter(sheet);
+  thorough_queue_.RequeueAfter(sheet);
   ++accepted_sheets_;
   changed_since_search_ = true;
   search_clean_ = false;

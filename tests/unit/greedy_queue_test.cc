@@ -100,5 +100,60 @@ TEST_F(GreedyQueueTest, AnInfeasibleSolveDependsOnTheRowsAroundTheRoot) {
   EXPECT_EQ(Drain(), (std::vector<BundleId>{u, w}));
 }
 
+TEST_F(GreedyQueueTest, ANewRowRequeuesOnlyTheRootsWhoseSheetCrossedIt) {
+  const BundleId u = BundleAlong(0), v = BundleAlong(1), w = BundleAlong(2);
+  EXPECT_FALSE(queue_.started());
+  queue_.Reset();
+  EXPECT_TRUE(queue_.started());
+  ASSERT_EQ(queue_.Pop(), u);
+  queue_.RecordDependencies(u, std::vector<BundleId>{u, v});
+  ASSERT_EQ(queue_.Pop(), v);
+  queue_.RecordDependencies(v, std::vector<BundleId>{v});
+  ASSERT_EQ(queue_.Pop(), w);
+  queue_.RecordDependencies(w, std::vector<BundleId>{w});
+  ASSERT_EQ(queue_.Pop(), std::nullopt);
+
+  // A row over u alone: only u's sheet crossed it (v's and w's left u alone).
+  queue_.RequeueUsersOf(std::vector<BundleId>{u});
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{u}));
+  // A row over v: u's old sheet crossed v too, but u's dependencies were used by the row above,
+  // so only v is pumped again.
+  queue_.RequeueUsersOf(std::vector<BundleId>{v});
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{v}));
+}
+
+TEST_F(GreedyQueueTest, RootsAPassDidNotReachStayQueuedForTheNextOne) {
+  const BundleId u = BundleAlong(0), v = BundleAlong(1), w = BundleAlong(2);
+  queue_.Reset();
+  ASSERT_EQ(queue_.Pop(), u);  // a pass that stops after one root
+  queue_.RecordDependencies(u, std::vector<BundleId>{u});
+  // The next pass goes on with v and w instead of starting over.
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{v, w}));
+}
+
+TEST_F(GreedyQueueTest, OutdatedDependenciesAreDroppedAndCurrentOnesKept) {
+  const BundleId u = BundleAlong(0), v = BundleAlong(1), w = BundleAlong(2);
+  queue_.Reset();
+  Drain();
+  queue_.RecordDependencies(w, std::vector<BundleId>{v, w});  // w's sheet went through v
+  // u's sheet goes through v too, but u is queued again every time because u itself moves: each
+  // time its record at v becomes outdated without v ever changing.
+  IntegerSheet only_u;
+  only_u.bundles = {u};
+  only_u.deltas = {1};
+  for (int i = 0; i < 1000; ++i) {
+    queue_.RecordDependencies(u, std::vector<BundleId>{u, v});
+    queue_.RequeueAfter(only_u);
+    ASSERT_EQ(Drain(), (std::vector<BundleId>{u}));
+  }
+  EXPECT_LE(queue_.num_recorded_dependencies(), 32 * 3 + 2);
+  // v moves: w's record survived the dropping; none of u's outdated ones re-queues u.
+  IntegerSheet only_v;
+  only_v.bundles = {v};
+  only_v.deltas = {1};
+  queue_.RequeueAfter(only_v);
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{v, w}));
+}
+
 }  // namespace
 }  // namespace ispq
