@@ -76,6 +76,10 @@ class IntegerSheetPump {
   // tuning_.max_new_rows_per_search violations and sets rows_left_over_ if more were found;
   // returns the number of violations found.
   int64_t SearchRound(std::vector<int32_t>* new_rows);
+  // Anytime: whether the q a separating update left is separating already, reported at once if
+  // so. What the probe finds is not enforced (the search after the next descent does that), so
+  // the run takes the same path with or without it; only the first valid q comes earlier.
+  void ProbeSeparation();
 
   void Report(QuantizationPhase phase);
   void SaveIfBestValid();
@@ -148,6 +152,7 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
         ++repeated_searches;
         continue;
       }
+      if (separated) ProbeSeparation();
       ISPQ_RETURN_IF_ERROR(Greedy(false, QuantizationPhase::kGreedy).status());
       ++rounds;
       continue;
@@ -346,6 +351,20 @@ int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
   stats_.separation_rows += added.activated;
   rows_left_over_ = added.dropped;
   return static_cast<int64_t>(violations.size());
+}
+
+void IntegerSheetPump::ProbeSeparation() {
+  if (rows_.store().num_violated_active() > 0) return;
+  if (!rows_.simple_rows_active() && rows_.AnyHeldSimpleRowViolated()) return;
+  {
+    ScopedCpuSeconds timer(&stats_.separation_search_seconds);
+    quantization_.ArcValues(&arc_values_);
+    if (!separation_.FindFirstViolations(arc_values_).empty()) return;
+  }
+  search_clean_ = true;
+  changed_since_search_ = false;
+  SaveIfBestValid();
+  Report(QuantizationPhase::kSeparation);
 }
 
 // ---------------------------------------------------------------------------------------------

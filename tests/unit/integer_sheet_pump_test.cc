@@ -3,6 +3,7 @@
 // in a valid quantization, and each knob must do what it says.
 #include "core/isp/integer_sheet_pump.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <string>
@@ -153,6 +154,39 @@ TEST(IntegerSheetPumpTest, DisjointPartsGetTheirRowsInTheSameRound) {
   EXPECT_GE(one_rounds, 2) << "the case needs rows enforced over several rounds";
   EXPECT_EQ(eight_rounds, one_rounds);
   EXPECT_NEAR(eight_objective, 8 * one_objective, 1e-6 * eight_objective);
+}
+
+// Records the phase and validity of every progress event.
+class EventLog : public ProgressObserver {
+ public:
+  void OnProgress(const ProgressEvent& event) override { events.push_back(event); }
+  std::vector<ProgressEvent> events;
+};
+
+// Anytime: when a separating update leaves a separating q, it is reported at once, before the
+// descent that follows, instead of after it. The run itself takes the same path (the shared set
+// gives identical q with and without the probe). Without the probe a descent (kGreedy) never
+// follows the first separating event before the final pass (kFinal) began: the first separating
+// event came from a search that found nothing, after which only the final pass runs.
+TEST(IntegerSheetPumpTest, AValidQALeftBySeparatingUpdateIsReportedBeforeTheNextDescent) {
+  const TMesh mesh = LoadTMeshOrDie(SharedTMeshDir() + "/hex-me/n06u_anti_pentapyr.tmesh.json");
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[7].scaling;
+  EventLog log;
+  const absl::StatusOr<IspOutcome> outcome =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, &log, nullptr);
+  ASSERT_TRUE(outcome.ok()) << outcome.status();
+  ASSERT_TRUE(outcome->separating);
+  const auto first_valid = std::find_if(log.events.begin(), log.events.end(),
+                                        [](const ProgressEvent& e) { return e.separating; });
+  ASSERT_NE(first_valid, log.events.end());
+  EXPECT_EQ(first_valid->phase, QuantizationPhase::kSeparation);
+  const auto final_pass = std::find_if(log.events.begin(), log.events.end(), [](const auto& e) {
+    return e.phase == QuantizationPhase::kFinal;
+  });
+  EXPECT_TRUE(std::any_of(first_valid, final_pass, [](const ProgressEvent& e) {
+    return e.phase == QuantizationPhase::kGreedy;
+  })) << "no descent followed the first valid q before the final pass";
 }
 
 }  // namespace
