@@ -1,22 +1,23 @@
 #include "core/isp/greedy_queue.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ispq {
-
-GreedyQueue::GreedyQueue(const BundleQuantization& quantization, const InequalityRows& rows)
-    : quantization_(quantization),
-      rows_(rows),
-      stamp_(quantization.num_bundles(), 0),
-      users_(quantization.num_bundles()),
-      mark_(quantization.num_bundles(), 0) {}
-
 namespace {
 
 // Recorded dependencies per bundle beyond which outdated ones are dropped.
 constexpr int64_t kDependenciesPerBundle = 32;
 
 }  // namespace
+
+GreedyQueue::GreedyQueue(const BundleQuantization& quantization, const InequalityRows& rows)
+    : quantization_(quantization),
+      rows_(rows),
+      stamp_(quantization.num_bundles(), 0),
+      users_(quantization.num_bundles()),
+      drop_threshold_(kDependenciesPerBundle * quantization.num_bundles()),
+      mark_(quantization.num_bundles(), 0) {}
 
 void GreedyQueue::Reset() {
   started_ = true;
@@ -48,9 +49,7 @@ bool GreedyQueue::Mark(BundleId b) {
 
 void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> support) {
   const int32_t stamp = stamp_[root];
-  if (num_dependencies_ > kDependenciesPerBundle * static_cast<int64_t>(users_.size())) {
-    DropOutdatedDependencies();
-  }
+  if (num_dependencies_ > drop_threshold_) DropOutdatedDependencies();
   if (!support.empty()) {
     for (BundleId c : support) users_[c].push_back({root, stamp});
     num_dependencies_ += static_cast<int64_t>(support.size());
@@ -72,6 +71,9 @@ void GreedyQueue::DropOutdatedDependencies() {
     std::erase_if(list, [&](const auto& user) { return user.second != stamp_[user.first]; });
     num_dependencies_ += static_cast<int64_t>(list.size());
   }
+  // The current records alone can outnumber the bundles by far (a sheet crosses many bundles):
+  // the next drop waits until the records doubled, so each scan is paid for by as many records.
+  drop_threshold_ = std::max(drop_threshold_, 2 * num_dependencies_);
 }
 
 void GreedyQueue::RequeueUsers(BundleId c) {

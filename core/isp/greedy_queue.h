@@ -38,7 +38,8 @@ class GreedyQueue {
   void Reset();
   // Whether Reset() ran since construction.
   bool started() const { return started_; }
-  // Dependencies recorded and not yet used or dropped (bounded by a multiple of the bundles).
+  // Dependencies recorded and not yet used or dropped: at most twice the current ones (those of
+  // each root's last solve) or 32 per bundle, whichever is more.
   int64_t num_recorded_dependencies() const { return num_dependencies_; }
   // The next root whose entry is current, or nullopt when none is left.
   std::optional<BundleId> Pop();
@@ -82,6 +83,7 @@ class GreedyQueue {
   // Per bundle, the (root, stamp) of the solves that depended on it.
   std::vector<std::vector<std::pair<BundleId, int32_t>>> users_;
   int64_t num_dependencies_ = 0;
+  int64_t drop_threshold_;  // outdated records are dropped when there are more records than this
   bool started_ = false;
   std::vector<uint32_t> mark_;
   uint32_t epoch_ = 0;

@@ -207,8 +207,9 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     request.allow_deflation = options_.mixed_sign || !inflate;
     ISPQ_ASSIGN_OR_RETURN(bool found, steps_.Find(subproblems_.Of(root), request, &step_));
     if (clock_.stopped()) return false;
-    (thorough ? thorough_queue_ : queue_).RecordDependencies(
-        root, found ? std::span<const BundleId>(step_.sheet.bundles) : std::span<const BundleId>());
+    (thorough ? thorough_queue_ : queue_)
+        .RecordDependencies(root, found ? std::span<const BundleId>(step_.sheet.bundles)
+                                        : std::span<const BundleId>());
     if (thorough) {
       ISPQ_ASSIGN_OR_RETURN(found, SteerAroundWorsenedBundles(root, request, found));
       if (clock_.stopped()) return false;
