@@ -64,6 +64,7 @@ class IntegerSheetPump {
   // blocks the bundles it made worse from moving that way and solves again.
   absl::StatusOr<bool> SteerAroundWorsenedBundles(BundleId root, SheetRequest& request, bool found);
   void Apply(const SheetStep& step);
+  GreedyQueue& QueueOf(bool thorough) { return thorough ? thorough_queue_ : queue_; }
   // Rows joined the active rows: the roots whose last sheet crossed them are pumped again.
   void RequeueUsersOfRows(std::span<const int32_t> new_rows);
   double Tolerance() const { return 1e-9 * (1.0 + std::abs(quantization_.objective())); }
@@ -76,6 +77,8 @@ class IntegerSheetPump {
   // tuning_.max_new_rows_per_search violations and sets rows_left_over_ if more were found;
   // returns the number of violations found.
   int64_t SearchRound(std::vector<int32_t>* new_rows);
+  // The lazy separation search on the current q (timed as the search phase).
+  std::vector<SeparationViolation> FindViolations();
   // Anytime: whether the q a separating update left is separating already, reported at once if
   // so. What the probe finds is not enforced (the search after the next descent does that), so
   // the run takes the same path with or without it; only the first valid q comes earlier.
@@ -171,7 +174,7 @@ absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
 
 absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase phase) {
   ScopedCpuSeconds timer(&stats_.greedy_seconds);
-  GreedyQueue& queue = thorough ? thorough_queue_ : queue_;
+  GreedyQueue& queue = QueueOf(thorough);
   if (!queue.started()) queue.Reset();
   const double skip_limit =
       std::max(kSkipFraction * quantization_.num_bundles(), double{1} * kMinSkip);
@@ -207,9 +210,8 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     request.allow_deflation = options_.mixed_sign || !inflate;
     ISPQ_ASSIGN_OR_RETURN(bool found, steps_.Find(subproblems_.Of(root), request, &step_));
     if (clock_.stopped()) return false;
-    (thorough ? thorough_queue_ : queue_)
-        .RecordDependencies(root, found ? std::span<const BundleId>(step_.sheet.bundles)
-                                        : std::span<const BundleId>());
+    QueueOf(thorough).RecordDependencies(
+        root, found ? std::span<const BundleId>(step_.sheet.bundles) : std::span<const BundleId>());
     if (thorough) {
       ISPQ_ASSIGN_OR_RETURN(found, SteerAroundWorsenedBundles(root, request, found));
       if (clock_.stopped()) return false;
@@ -339,12 +341,7 @@ absl::StatusOr<bool> IntegerSheetPump::FailsafeSubproblem(int32_t id) {
 }
 
 int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
-  std::vector<SeparationViolation> violations;
-  {
-    ScopedCpuSeconds timer(&stats_.separation_search_seconds);
-    quantization_.ArcValues(&arc_values_);
-    violations = separation_.FindFirstViolations(arc_values_);
-  }
+  const std::vector<SeparationViolation> violations = FindViolations();
   ++stats_.separation_rounds;
   changed_since_search_ = false;
   const SeparationRows::Added added =
@@ -354,14 +351,16 @@ int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
   return static_cast<int64_t>(violations.size());
 }
 
+std::vector<SeparationViolation> IntegerSheetPump::FindViolations() {
+  ScopedCpuSeconds timer(&stats_.separation_search_seconds);
+  quantization_.ArcValues(&arc_values_);
+  return separation_.FindFirstViolations(arc_values_);
+}
+
 void IntegerSheetPump::ProbeSeparation() {
   if (rows_.store().num_violated_active() > 0) return;
   if (!rows_.simple_rows_active() && rows_.AnyHeldSimpleRowViolated()) return;
-  {
-    ScopedCpuSeconds timer(&stats_.separation_search_seconds);
-    quantization_.ArcValues(&arc_values_);
-    if (!separation_.FindFirstViolations(arc_values_).empty()) return;
-  }
+  if (!FindViolations().empty()) return;
   search_clean_ = true;
   changed_since_search_ = false;
   SaveIfBestValid();
