@@ -59,7 +59,7 @@ class ClpSheetLp final : public SheetLp {
     int flags = 0;
     if (options_.keep_factorization) {
       flags = 1;
-      if (!fresh_factorization_needed_ && solved_once_) flags |= 2;
+      if (!fresh_factorization_needed_ && solved_once_) flags |= 2 | 4;
     }
     RunSimplex(flags);
     int status = model_.status();

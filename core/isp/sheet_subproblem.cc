@@ -19,7 +19,8 @@ SheetSubproblem::SheetSubproblem(SheetLpContext* context, std::vector<BundleId> 
     : context_(context),
       bundles_(std::move(bundles)),
       equalities_(std::move(equalities)),
-      rows_(std::move(rows)) {
+      rows_(std::move(rows)),
+      cap_(context->column_cap) {
   for (size_t i = 0; i < bundles_.size(); ++i) {
     context_->local_index_of_bundle[bundles_[i]] = static_cast<int32_t>(i);
   }
@@ -58,6 +59,7 @@ void SheetSubproblem::Build() {
   rows.swap(rows_);
   AddRows(rows);
   for (BundleId b : bundles_) PushWeights(b);
+  ResetAllColumnPairs();
 }
 
 void SheetSubproblem::AddRows(std::span<const int32_t> new_rows) {
@@ -107,20 +109,45 @@ double SheetSubproblem::DeflationCap(BundleId b) const {
 }
 
 void SheetSubproblem::ResetColumnPair(int32_t local) {
-  lp_->SetColumnBounds(2 * local, 0, allow_inflation_ ? kLpInfinity : 0);
-  lp_->SetColumnBounds(2 * local + 1, 0, allow_deflation_ ? kLpInfinity : 0);
+  lp_->SetColumnBounds(2 * local, 0, allow_inflation_ ? cap_ : 0);
+  lp_->SetColumnBounds(2 * local + 1, 0, allow_deflation_ ? cap_ : 0);
+}
+
+void SheetSubproblem::ResetAllColumnPairs() {
+  for (int32_t i = 0; i < static_cast<int32_t>(bundles_.size()); ++i) ResetColumnPair(i);
 }
 
 void SheetSubproblem::SetMode(bool allow_inflation, bool allow_deflation) {
   if (allow_inflation == allow_inflation_ && allow_deflation == allow_deflation_) return;
   allow_inflation_ = allow_inflation;
   allow_deflation_ = allow_deflation;
-  for (int32_t i = 0; i < static_cast<int32_t>(bundles_.size()); ++i) ResetColumnPair(i);
+  ResetAllColumnPairs();
 }
 
 absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, RationalSheet* sheet) {
-  if (request.weights != weights_) {
-    weights_ = request.weights;
+  PushPendingEdits(request.weights);
+  if (!SetRequestBounds(request)) return false;
+  absl::StatusOr<bool> optimal = RunSolver();
+  if (optimal.ok() && *optimal && !SolutionReachesCap()) {
+    ReadSheet(sheet);
+    return true;
+  }
+  if (!optimal.ok() || std::isinf(cap_)) return optimal;
+  // The cap may have cut off the optimum, or every solution: once more without it, then back.
+  ++uncapped_solves_;
+  cap_ = kLpInfinity;
+  ResetAllColumnPairs();
+  SetRequestBounds(request);
+  optimal = RunSolver();
+  if (optimal.ok() && *optimal) ReadSheet(sheet);
+  cap_ = context_->column_cap;
+  ResetAllColumnPairs();
+  return optimal;
+}
+
+void SheetSubproblem::PushPendingEdits(WeightScheme weights) {
+  if (weights != weights_) {
+    weights_ = weights;
     for (BundleId b : bundles_) MarkBundleMoved(b);
   }
   for (BundleId b : dirty_bundles_) {
@@ -131,7 +158,9 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   dirty_bundles_.clear();
   for (int32_t r : dirty_rows_) PushRowBounds(r);
   dirty_rows_.clear();
+}
 
+bool SheetSubproblem::SetRequestBounds(const SheetRequest& request) {
   if (root_local_ != kNoId) ResetColumnPair(root_local_);
   root_local_ = kNoId;
   for (int32_t i : blocked_locals_) ResetColumnPair(i);
@@ -146,14 +175,13 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
     root_local_ = context_->local_index_of_bundle[request.root];
     const int plus = 2 * root_local_, minus = plus + 1;
     if (request.inflate_root) {
-      lp_->SetColumnBounds(plus, 1, kLpInfinity);
+      lp_->SetColumnBounds(plus, 1, cap_);
       lp_->SetColumnBounds(minus, 0, 0);
     } else {
       // A root at its floor cannot deflate: no need to ask the solver.
-      const double cap = DeflationCap(request.root);
-      if (cap < 1) return false;
+      if (DeflationCap(request.root) < 1) return false;
       lp_->SetColumnBounds(plus, 0, 0);
-      lp_->SetColumnBounds(minus, 1, kLpInfinity);
+      lp_->SetColumnBounds(minus, 1, cap_);
     }
   }
 
@@ -166,11 +194,25 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
     lp_->SetColumnBounds(2 * i + 1, std::max(-v, 0.0), std::max(-v, 0.0));
     blocked_locals_.push_back(i);
   }
-  ++solver_calls_;
-  absl::StatusOr<LpOutcome> outcome = lp_->Solve();
-  if (!outcome.ok()) return outcome.status();
-  if (*outcome == LpOutcome::kInfeasible) return false;
+  return true;
+}
 
+absl::StatusOr<bool> SheetSubproblem::RunSolver() {
+  ++solver_calls_;
+  const absl::StatusOr<LpOutcome> outcome = lp_->Solve();
+  if (!outcome.ok()) return outcome.status();
+  return *outcome == LpOutcome::kOptimal;
+}
+
+bool SheetSubproblem::SolutionReachesCap() const {
+  if (std::isinf(cap_)) return false;
+  for (double v : lp_->column_values()) {
+    if (v >= cap_ - kZeroTolerance) return true;
+  }
+  return false;
+}
+
+void SheetSubproblem::ReadSheet(RationalSheet* sheet) const {
   sheet->bundles.clear();
   sheet->values.clear();
   const std::span<const double> x = lp_->column_values();
@@ -181,7 +223,6 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
       sheet->values.push_back(v);
     }
   }
-  return true;
 }
 
 bool SheetSubproblem::IsConsistent(const IntegerSheet& sheet) {

@@ -9,6 +9,15 @@
 // whose value or activity changed, the bounds of the root columns (eqs. 7e/7f) and, when the
 // mode changes, the Delta+/Delta- upper bounds (uniform-sign and non-deflating modes, eq. 7g).
 // Everything that stays is left to the solver's warm start.
+//
+// The columns are capped at a large finite value (SheetLpContext::column_cap) instead of being
+// unbounded. With unbounded columns, every weight change that leaves the warm basis dual
+// infeasible makes CLP's dual simplex put artificial bounds on the columns and then clean up
+// with a primal simplex that refactorizes the whole basis: half of the CPU time on a 10k-arc
+// mesh. With boxed columns the dual simplex repairs dual infeasibilities by bound flips. The cap
+// never changes an answer: a solve whose solution reaches it, or that the cap makes infeasible,
+// is repeated with the cap lifted (an LP optimum strictly inside the box is an optimum without
+// it).
 #ifndef ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 #define ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 
@@ -45,6 +54,8 @@ struct SheetLpContext {
   // this bundle alone). A request that would take such a bundle below 0 is infeasible without
   // asking the solver (common: deflating a root that is already 0).
   std::vector<uint8_t> has_floor;
+  // Upper bound of every free column (see above). Real sheets move a bundle by a few units.
+  double column_cap = 1024;
 };
 
 enum class WeightScheme : uint8_t {
@@ -91,8 +102,10 @@ class SheetSubproblem {
   // false if the LP is infeasible; on success `sheet` holds the solution. Requests that are
   // infeasible on their face (a root or pinned bundle below its floor) do not reach the solver.
   absl::StatusOr<bool> Solve(const SheetRequest& request, RationalSheet* sheet);
-  // How many times Solve() actually ran the solver.
+  // How many times Solve() actually ran the solver, and how many of those were repeats with the
+  // column cap lifted.
   int64_t solver_calls() const { return solver_calls_; }
+  int64_t uncapped_solves() const { return uncapped_solves_; }
 
   // Whether an integer sheet over these bundles satisfies every consistency row exactly.
   bool IsConsistent(const IntegerSheet& sheet);
@@ -104,6 +117,17 @@ class SheetSubproblem {
   void PushRowBounds(int32_t r);
   void PushWeights(BundleId b);
   void SetMode(bool allow_inflation, bool allow_deflation);
+  // Weights of moved bundles and bounds of changed rows, pushed to the solver.
+  void PushPendingEdits(WeightScheme weights);
+  // Sets the column bounds a request asks for; false if it is infeasible on its face.
+  bool SetRequestBounds(const SheetRequest& request);
+  // Runs the solver; true for kOptimal.
+  absl::StatusOr<bool> RunSolver();
+  // Whether some column of the last solution sits at the cap.
+  bool SolutionReachesCap() const;
+  void ReadSheet(RationalSheet* sheet) const;
+  // Sets every column pair's bounds for the current mode and cap.
+  void ResetAllColumnPairs();
   void ResetColumnPair(int32_t local);
   // How far bundle b may deflate on its own: its value if it has a floor row, else +inf.
   double DeflationCap(BundleId b) const;
@@ -118,6 +142,7 @@ class SheetSubproblem {
   std::vector<uint8_t> bundle_dirty_;  // by local index
   std::vector<int32_t> dirty_rows_;
   bool allow_inflation_ = true, allow_deflation_ = true;
+  double cap_;  // the context's column_cap, or +inf during a repeat without it
   WeightScheme weights_ = WeightScheme::kTiered;
   int32_t root_local_ = kNoId;
   std::vector<int32_t> blocked_locals_;  // column pairs whose bounds a request changed
@@ -125,6 +150,7 @@ class SheetSubproblem {
   std::vector<int32_t> columns_;         // scratch for AppendRow
   std::vector<double> coefs_;
   int64_t solver_calls_ = 0;
+  int64_t uncapped_solves_ = 0;
 };
 
 }  // namespace ispq

@@ -27,7 +27,8 @@ using ::testing::Optional;
 // Everything one subproblem LP over a whole mesh needs, wired as the quantizer wires it.
 class SheetLpFixture {
  public:
-  SheetLpFixture(const TMesh& mesh, double scaling, bool extent_rows)
+  SheetLpFixture(const TMesh& mesh, double scaling, bool extent_rows,
+                 double column_cap = SheetLpContext{}.column_cap)
       : consistency_(mesh),
         bundles_(mesh, consistency_),
         x_(mesh, bundles_, scaling),
@@ -43,6 +44,7 @@ class SheetLpFixture {
     context_.rows = &rows_;
     context_.equalities = &equalities_;
     context_.num_arcs = mesh.num_arcs();
+    context_.column_cap = column_cap;
     context_.new_lp = [](int columns) { return NewClpSheetLp(columns); };
     context_.local_index_of_bundle.assign(bundles_.num_bundles(), kNoId);
     context_.has_floor.assign(bundles_.num_bundles(), 0);
@@ -198,6 +200,38 @@ TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
   alone.bundles = {fixture.equalities()[0][0].var};
   alone.deltas = {1};
   EXPECT_FALSE(fixture.lp().IsConsistent(alone));
+}
+
+// The finite column cap only speeds up the solver: with a cap every solution reaches (0.5, below
+// the root's pump bound) or some may (1.5), every root in both directions gets the answer it
+// gets without a cap, because such solves are repeated without it.
+TEST(SheetSubproblemTest, ColumnCapNeverChangesAnAnswer) {
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  SheetLpFixture uncapped(mesh, 0.2, /*extent_rows=*/true, kLpInfinity);
+  for (const double cap : {0.5, 1.5, SheetLpContext{}.column_cap}) {
+    SCOPED_TRACE(cap);
+    SheetLpFixture capped(mesh, 0.2, /*extent_rows=*/true, cap);
+    int64_t feasible_solves = 0;
+    for (BundleId root = 0; root < capped.bundles().num_bundles(); ++root) {
+      for (const bool inflate : {true, false}) {
+        RationalSheet expected, sheet;
+        const absl::StatusOr<bool> want = uncapped.lp().Solve(Pump(root, inflate), &expected);
+        const absl::StatusOr<bool> got = capped.lp().Solve(Pump(root, inflate), &sheet);
+        ASSERT_TRUE(want.ok() && got.ok());
+        ASSERT_EQ(*got, *want) << "root " << root << " inflate " << inflate;
+        if (!*got) continue;
+        ++feasible_solves;
+        EXPECT_EQ(sheet.bundles, expected.bundles) << "root " << root << " inflate " << inflate;
+        EXPECT_THAT(sheet.values,
+                    ::testing::Pointwise(::testing::DoubleNear(1e-9), expected.values));
+      }
+    }
+    EXPECT_GT(feasible_solves, capped.bundles().num_bundles());
+    EXPECT_EQ(uncapped.lp().uncapped_solves(), 0);
+    if (cap < 1) {
+      EXPECT_EQ(capped.lp().uncapped_solves(), capped.lp().solver_calls() / 2);
+    }
+  }
 }
 
 // Paper Figs. 6/7: forcing the root through a U-turn of T-junctions yields halves.
