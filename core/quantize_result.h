@@ -22,6 +22,8 @@ const char* TerminationName(Termination termination);
 
 struct QuantizeStats {
   int64_t lp_solves = 0;
+  // Thorough-pass checks answered by the sheet of another root (IspTuning::cover_min_bundles).
+  int64_t covered_checks = 0;
   int64_t sheets_inflating = 0;
   int64_t sheets_deflating = 0;
   int64_t sheets_mixed = 0;

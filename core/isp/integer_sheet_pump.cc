@@ -12,6 +12,7 @@
 #include "core/isp/greedy_queue.h"
 #include "core/isp/run_clock.h"
 #include "core/isp/separation_rows.h"
+#include "core/isp/sheet_coverage.h"
 #include "core/isp/sheet_step.h"
 #include "core/isp/subproblem_set.h"
 #include "core/separation_check.h"
@@ -49,7 +50,8 @@ class IntegerSheetPump {
         separation_(mesh, options.separation),
         steps_(quantization_, rows_.store(), tuning, clock_, stats_),
         queue_(quantization_, rows_.store()),
-        thorough_queue_(quantization_, rows_.store()) {}
+        thorough_queue_(quantization_, rows_.store()),
+        coverage_(quantization_.num_bundles()) {}
 
   absl::StatusOr<IspOutcome> Run();
 
@@ -106,6 +108,8 @@ class IntegerSheetPump {
   // last pass of its kind (core/isp/greedy_queue.h).
   GreedyQueue queue_;
   GreedyQueue thorough_queue_;
+  // The checks of thorough passes on large subproblems that a non-improving sheet answered.
+  SheetCoverage coverage_;
 
   SheetStep step_;
   std::vector<std::pair<BundleId, bool>> blocked_;
@@ -201,8 +205,20 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
 
 absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
   const bool toward_inflation = quantization_.mean_deviation(root) >= 0;
+  const bool covering = thorough && subproblems_.Of(root).bundles().size() >=
+                                        static_cast<size_t>(tuning_.cover_min_bundles);
   for (int k = 0; k < (thorough ? 2 : 1); ++k) {
     const bool inflate = (k == 0) == toward_inflation;
+    if (covering) {
+      const std::optional<std::span<const BundleId>> answer =
+          coverage_.CoveringSheet(root, inflate);
+      if (answer.has_value()) {
+        // The root is pumped again when a bundle of the covering sheet moves.
+        thorough_queue_.RecordDependencies(root, *answer);
+        ++stats_.covered_checks;
+        continue;
+      }
+    }
     SheetRequest request;
     request.root = root;
     request.inflate_root = inflate;
@@ -212,6 +228,7 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     if (clock_.stopped()) return false;
     QueueOf(thorough).RecordDependencies(
         root, found ? std::span<const BundleId>(step_.sheet.bundles) : std::span<const BundleId>());
+    if (covering && found && step_.gain >= -Tolerance()) coverage_.Cover(step_.sheet);
     if (thorough) {
       ISPQ_ASSIGN_OR_RETURN(found, SteerAroundWorsenedBundles(root, request, found));
       if (clock_.stopped()) return false;
@@ -245,6 +262,8 @@ absl::StatusOr<bool> IntegerSheetPump::SteerAroundWorsenedBundles(BundleId root,
 }
 
 void IntegerSheetPump::RequeueUsersOfRows(std::span<const int32_t> new_rows) {
+  if (new_rows.empty()) return;
+  coverage_.Clear();  // a covering sheet may violate the new rows
   std::vector<BundleId> bundles;
   for (int32_t r : new_rows) {
     for (const LinearTerm& t : rows_.store().terms(r)) bundles.push_back(t.var);
@@ -256,6 +275,7 @@ void IntegerSheetPump::RequeueUsersOfRows(std::span<const int32_t> new_rows) {
 void IntegerSheetPump::Apply(const SheetStep& step) {
   const IntegerSheet& sheet = step.sheet;
   quantization_.Apply(sheet, step.t);
+  coverage_.Clear();
   SheetSubproblem& subproblem = subproblems_.Of(sheet.bundles[0]);
   for (size_t i = 0; i < sheet.bundles.size(); ++i) {
     rows_.OnBundleMoved(sheet.bundles[i], step.t * sheet.deltas[i]);

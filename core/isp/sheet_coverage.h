@@ -1,0 +1,45 @@
+// The (bundle, direction) checks of a thorough pass that a non-improving sheet already answered.
+//
+// An integer sheet is a dual surface: the cheapest sheet through one root usually is the cheapest
+// sheet through every other bundle it moves, in the direction it moves them. When the cheapest
+// sheet of a root does not improve the objective (nor its repair), the thorough pass on a large
+// subproblem takes it as the answer for those bundles too instead of solving their LPs (paper
+// Alg. 2 checks each root; this is the shortcut of IspTuning::cover_min_bundles). Any applied
+// sheet changes the weights, so it clears the coverage.
+#ifndef ISPQ_CORE_ISP_SHEET_COVERAGE_H_
+#define ISPQ_CORE_ISP_SHEET_COVERAGE_H_
+
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/arc_bundles.h"
+#include "core/isp/integer_sheet.h"
+
+namespace ispq {
+
+class SheetCoverage {
+ public:
+  explicit SheetCoverage(int num_bundles);
+
+  // Every bundle of `sheet` counts as answered in the direction the sheet moves it.
+  void Cover(const IntegerSheet& sheet);
+  // Forgets every sheet (the quantization changed).
+  void Clear();
+  // The bundles of the sheet that answered (b, inflate), if one did.
+  std::optional<std::span<const BundleId>> CoveringSheet(BundleId b, bool inflate) const;
+
+ private:
+  static size_t Key(BundleId b, bool inflate) { return 2 * static_cast<size_t>(b) + inflate; }
+
+  // Per (bundle, direction): the generation and the index of the sheet that covered it.
+  std::vector<uint32_t> generation_;
+  std::vector<int32_t> sheet_;
+  uint32_t current_ = 1;
+  std::vector<std::vector<BundleId>> sheets_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_ISP_SHEET_COVERAGE_H_
