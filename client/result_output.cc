@@ -48,6 +48,10 @@ void PrintResultSummary(const v1::QuantizationResult& result, std::ostream& out)
   out << "  " << s.lp_solves() << " LP solves, sheets " << s.sheets_inflating() << " inflating / "
       << s.sheets_deflating() << " deflating / " << s.sheets_mixed() << " mixed, "
       << s.separation_rounds() << " separation rounds (" << s.separation_rows() << " rows)\n";
+  if (s.covered_checks() > 0) {
+    out << "  " << s.covered_checks()
+        << " final checks answered by another root's sheet (large subproblems)\n";
+  }
   if (s.milp_solves() > 0) {
     out << "  exact: " << s.milp_solves() << " MILP solves, " << s.milp_nodes() << " nodes, "
         << s.milp_incumbents() << " candidates checked, " << s.exact_seconds() << " s\n";

@@ -107,6 +107,7 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   const QuantizeStats& s = result.stats;
   v1::QuantizationStats* stats = proto.mutable_stats();
   stats->set_lp_solves(s.lp_solves);
+  stats->set_covered_checks(s.covered_checks);
   stats->set_sheets_inflating(s.sheets_inflating);
   stats->set_sheets_deflating(s.sheets_deflating);
   stats->set_sheets_mixed(s.sheets_mixed);
