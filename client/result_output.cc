@@ -50,7 +50,7 @@ void PrintResultSummary(const v1::QuantizationResult& result, std::ostream& out)
       << s.separation_rounds() << " separation rounds (" << s.separation_rows() << " rows)\n";
   if (s.covered_checks() > 0) {
     out << "  " << s.covered_checks()
-        << " final checks answered by another root's sheet (large subproblems)\n";
+        << " greedy checks answered by another root's sheet (large subproblems)\n";
   }
   if (s.milp_solves() > 0) {
     out << "  exact: " << s.milp_solves() << " MILP solves, " << s.milp_nodes() << " nodes, "

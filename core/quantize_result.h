@@ -22,7 +22,7 @@ const char* TerminationName(Termination termination);
 
 struct QuantizeStats {
   int64_t lp_solves = 0;
-  // Thorough-pass checks answered by the sheet of another root (IspTuning::cover_min_bundles).
+  // Greedy checks answered by the sheet of another root (IspTuning::cover_min_bundles).
   int64_t covered_checks = 0;
   int64_t sheets_inflating = 0;
   int64_t sheets_deflating = 0;

@@ -108,7 +108,7 @@ class IntegerSheetPump {
   // last pass of its kind (core/isp/greedy_queue.h).
   GreedyQueue queue_;
   GreedyQueue thorough_queue_;
-  // The checks of thorough passes on large subproblems that a non-improving sheet answered.
+  // The greedy checks on large subproblems that a non-improving sheet answered.
   SheetCoverage coverage_;
 
   SheetStep step_;
@@ -205,8 +205,8 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
 
 absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
   const bool toward_inflation = quantization_.mean_deviation(root) >= 0;
-  const bool covering = thorough && subproblems_.Of(root).bundles().size() >=
-                                        static_cast<size_t>(tuning_.cover_min_bundles);
+  const bool covering =
+      subproblems_.Of(root).bundles().size() >= static_cast<size_t>(tuning_.cover_min_bundles);
   for (int k = 0; k < (thorough ? 2 : 1); ++k) {
     const bool inflate = (k == 0) == toward_inflation;
     if (covering) {
@@ -214,7 +214,7 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
           coverage_.CoveringSheet(root, inflate);
       if (answer.has_value()) {
         // The root is pumped again when a bundle of the covering sheet moves.
-        thorough_queue_.RecordDependencies(root, *answer);
+        QueueOf(thorough).RecordDependencies(root, *answer);
         ++stats_.covered_checks;
         continue;
       }

@@ -1,11 +1,12 @@
-// The (bundle, direction) checks of a thorough pass that a non-improving sheet already answered.
+// The (bundle, direction) checks of the greedy passes that a non-improving sheet already answered.
 //
 // An integer sheet is a dual surface: the cheapest sheet through one root usually is the cheapest
 // sheet through every other bundle it moves, in the direction it moves them. When the cheapest
-// sheet of a root does not improve the objective (nor its repair), the thorough pass on a large
-// subproblem takes it as the answer for those bundles too instead of solving their LPs (paper
-// Alg. 2 checks each root; this is the shortcut of IspTuning::cover_min_bundles). Any applied
-// sheet changes the weights, so it clears the coverage.
+// sheet of a root does not improve the objective (in a thorough pass: nor its repair), a greedy
+// pass on a large subproblem takes it as the answer for those bundles too instead of solving
+// their LPs (paper Alg. 2 checks each root; this is the shortcut of
+// IspTuning::cover_min_bundles). Any applied sheet changes the weights and any new row the
+// feasible sheets, so either clears the coverage.
 #ifndef ISPQ_CORE_ISP_SHEET_COVERAGE_H_
 #define ISPQ_CORE_ISP_SHEET_COVERAGE_H_
 

@@ -104,8 +104,8 @@ TEST(IntegerSheetPumpTest, WithoutTheThoroughPassFewerSolvesAreNeeded) {
 }
 
 // A synthetic part of 1000 arcs (one subproblem of ~130 bundles): with the threshold at 0, the
-// thorough pass takes non-improving sheets as the answer for the other bundles they move, solves
-// less and still ends valid; at the default threshold every check is solved.
+// greedy passes take non-improving sheets as the answer for the other bundles they move, solve
+// less and still end valid; at the default threshold every check is solved.
 TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
   const absl::StatusOr<testing::GridTMesh> grid =
       bench::BuildLargeTMesh(bench::LargeFamily::kSingleSubproblem, 1000, 3);
