@@ -15,9 +15,9 @@
 // infeasible makes CLP's dual simplex put artificial bounds on the columns and then clean up
 // with a primal simplex that refactorizes the whole basis: half of the CPU time on a 10k-arc
 // mesh. With boxed columns the dual simplex repairs dual infeasibilities by bound flips. The cap
-// never changes an answer: a solve whose solution reaches it, or that the cap makes infeasible,
-// is repeated with the cap lifted (an LP optimum strictly inside the box is an optimum without
-// it).
+// never cuts off an answer: a solve whose solution reaches it, or that the cap makes infeasible,
+// is repeated with the cap lifted, and an LP optimum strictly inside the box is an optimum
+// without it (among tied optima the solver may pick another vertex, as any warm start may).
 #ifndef ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 #define ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 

@@ -19,6 +19,9 @@ Run by hand (it takes long; not part of the test command), e.g.
   tests/bench/large/run_scaling.py --out /tmp/scaling --sizes 1000,3000,10000 --families single
 
 Runs past --time-limit CPU seconds are stopped and recorded with termination time_limit.
+--report-only rewrites scaling.md and scaling.png from OUT/scaling.tsv, e.g. after appending the
+rows of long runs made one at a time (ispq_scaling_run prints the same columns without the first
+two, family and target_arcs).
 """
 
 import argparse
@@ -174,10 +177,24 @@ def main():
     parser.add_argument("--seed", type=int, default=1)
     parser.add_argument("--time-limit", type=float, default=900)
     parser.add_argument("--fit-range", default="1000,100000")
+    parser.add_argument("--report-only", action="store_true")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
-    rows = []
     tsv_path = os.path.join(args.out, "scaling.tsv")
+    rows = read_rows(tsv_path) if args.report_only else run_all(args, tsv_path)
+    fit_range = tuple(map(int, args.fit_range.split(",")))
+    write_markdown(rows, os.path.join(args.out, "scaling.md"), fit_range)
+    plot(rows, os.path.join(args.out, "scaling.png"))
+    return 0 if all(r["valid"] == "1" for r in rows) else 1
+
+
+def read_rows(tsv_path):
+    with open(tsv_path) as tsv:
+        return list(csv.DictReader(tsv, delimiter="\t"))
+
+
+def run_all(args, tsv_path):
+    rows = []
     with open(tsv_path, "w") as tsv:
         writer = None
         for family in args.families.split(","):
@@ -193,10 +210,7 @@ def main():
                     tsv.flush()
                     print(f"{family} {row['arcs']} arcs L{level}: {float(row['cpu_s']):.2f} s CPU, "
                           f"valid {row['valid']}, {row['termination']}", flush=True)
-    fit_range = tuple(map(int, args.fit_range.split(",")))
-    write_markdown(rows, os.path.join(args.out, "scaling.md"), fit_range)
-    plot(rows, os.path.join(args.out, "scaling.png"))
-    return 0 if all(r["valid"] == "1" for r in rows) else 1
+    return rows
 
 
 if __name__ == "__main__":
