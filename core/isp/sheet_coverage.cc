@@ -4,7 +4,7 @@ namespace ispq {
 
 SheetCoverage::SheetCoverage(int num_bundles)
     : generation_(2 * static_cast<size_t>(num_bundles), 0),
-      sheet_(2 * static_cast<size_t>(num_bundles), -1) {}
+      sheet_index_(2 * static_cast<size_t>(num_bundles), -1) {}
 
 void SheetCoverage::Cover(const IntegerSheet& sheet) {
   const int32_t id = static_cast<int32_t>(sheets_.size());
@@ -12,7 +12,7 @@ void SheetCoverage::Cover(const IntegerSheet& sheet) {
   for (size_t i = 0; i < sheet.bundles.size(); ++i) {
     const size_t key = Key(sheet.bundles[i], sheet.deltas[i] > 0);
     generation_[key] = current_;
-    sheet_[key] = id;
+    sheet_index_[key] = id;
   }
 }
 
@@ -25,7 +25,7 @@ std::optional<std::span<const BundleId>> SheetCoverage::CoveringSheet(BundleId b
                                                                       bool inflate) const {
   const size_t key = Key(b, inflate);
   if (generation_[key] != current_) return std::nullopt;
-  return std::span<const BundleId>(sheets_[sheet_[key]]);
+  return std::span<const BundleId>(sheets_[sheet_index_[key]]);
 }
 
 }  // namespace ispq

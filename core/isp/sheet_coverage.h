@@ -36,7 +36,7 @@ class SheetCoverage {
 
   // Per (bundle, direction): the generation and the index of the sheet that covered it.
   std::vector<uint32_t> generation_;
-  std::vector<int32_t> sheet_;
+  std::vector<int32_t> sheet_index_;
   uint32_t current_ = 1;
   std::vector<std::vector<BundleId>> sheets_;
 };

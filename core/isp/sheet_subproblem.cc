@@ -128,11 +128,9 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   PushPendingEdits(request.weights);
   if (!SetRequestBounds(request)) return false;
   absl::StatusOr<bool> optimal = RunSolver();
-  if (optimal.ok() && *optimal && !SolutionReachesCap()) {
-    ReadSheet(sheet);
-    return true;
-  }
-  if (!optimal.ok() || std::isinf(cap_)) return optimal;
+  if (!optimal.ok()) return optimal;
+  const bool reaches_cap = *optimal && ReadSheet(sheet);
+  if ((*optimal && !reaches_cap) || std::isinf(cap_)) return optimal;
   // The cap may have cut off the optimum, or every solution: once more without it, then back.
   ++uncapped_solves_;
   cap_ = kLpInfinity;
@@ -204,25 +202,21 @@ absl::StatusOr<bool> SheetSubproblem::RunSolver() {
   return *outcome == LpOutcome::kOptimal;
 }
 
-bool SheetSubproblem::SolutionReachesCap() const {
-  if (std::isinf(cap_)) return false;
-  for (double v : lp_->column_values()) {
-    if (v >= cap_ - kZeroTolerance) return true;
-  }
-  return false;
-}
-
-void SheetSubproblem::ReadSheet(RationalSheet* sheet) const {
+bool SheetSubproblem::ReadSheet(RationalSheet* sheet) const {
   sheet->bundles.clear();
   sheet->values.clear();
   const std::span<const double> x = lp_->column_values();
+  const double cap_reached = cap_ - kZeroTolerance;  // +inf without a cap
+  bool at_cap = false;
   for (size_t i = 0; i < bundles_.size(); ++i) {
+    at_cap |= x[2 * i] >= cap_reached || x[2 * i + 1] >= cap_reached;
     const double v = x[2 * i] - x[2 * i + 1];
     if (std::abs(v) > kZeroTolerance) {
       sheet->bundles.push_back(bundles_[i]);
       sheet->values.push_back(v);
     }
   }
+  return at_cap;
 }
 
 bool SheetSubproblem::IsConsistent(const IntegerSheet& sheet) {

@@ -123,9 +123,8 @@ class SheetSubproblem {
   bool SetRequestBounds(const SheetRequest& request);
   // Runs the solver; true for kOptimal.
   absl::StatusOr<bool> RunSolver();
-  // Whether some column of the last solution sits at the cap.
-  bool SolutionReachesCap() const;
-  void ReadSheet(RationalSheet* sheet) const;
+  // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
+  bool ReadSheet(RationalSheet* sheet) const;
   // Sets every column pair's bounds for the current mode and cap.
   void ResetAllColumnPairs();
   void ResetColumnPair(int32_t local);
