@@ -11,7 +11,7 @@
 #include "core/exact/cbc_milp_solver.h"
 #include "core/exact/exact_quantizer.h"
 #include "core/exact/lower_bound.h"
-#include "core/isp/clp_sheet_lp.h"
+#include "core/isp/dual_simplex_sheet_lp.h"
 #include "core/isp/integer_sheet_pump.h"
 #include "core/isp/run_clock.h"
 #include "core/quantization_limits.h"
@@ -135,9 +135,9 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
   if (exact && std::isinf(options.time_limit_seconds)) {
     options.time_limit_seconds = kDefaultExactTimeLimitSeconds;
   }
-  ISPQ_ASSIGN_OR_RETURN(
-      IspOutcome outcome,
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, observer, interrupter));
+  ISPQ_ASSIGN_OR_RETURN(IspOutcome outcome,
+                        RunIntegerSheetPump(mesh, options, DualSimplexSheetLpFactory(), IspTuning{},
+                                            observer, interrupter));
   QuantizeResult result;
   result.termination = outcome.termination;
   result.q = std::move(outcome.q);

@@ -64,6 +64,8 @@ class ClpSheetLp final : public SheetLp {
     fresh_factorization_needed_ = true;
   }
 
+  bool wants_column_cap() const override { return true; }
+
   absl::StatusOr<LpOutcome> Solve() override {
     int flags = 0;
     if (options_.keep_factorization) {

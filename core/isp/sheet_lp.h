@@ -7,7 +7,9 @@
 // interface therefore exposes exactly those incremental edits and a Solve() that is expected to
 // warm-start from the previous basis, in the spirit of an incremental solver interface (model
 // edits are pushed to the live solver instead of rebuilding it). Columns are fixed at creation;
-// rows can only be appended. Implementations: core/clp_sheet_lp.h (COIN-OR CLP).
+// rows can only be appended. Implementations: core/isp/dual_simplex_sheet_lp.h (the sparse dual
+// simplex of core/isp/sparse_dual_simplex.h, the default) and core/isp/clp_sheet_lp.h (COIN-OR
+// CLP, its fallback).
 #ifndef ISPQ_CORE_ISP_SHEET_LP_H_
 #define ISPQ_CORE_ISP_SHEET_LP_H_
 
@@ -76,6 +78,10 @@ class SheetLp {
   virtual void SetRowBounds(int row, double lower, double upper) = 0;
   // Appends the rows of the batch; they get the ids num_rows() .. num_rows() + batch.size() - 1.
   virtual void AddRows(const LpRowBatch& batch) = 0;
+
+  // Whether the engine should box the free columns at SheetLpContext::column_cap
+  // (core/isp/sheet_subproblem.h): CLP's dual simplex needs it, the sparse dual simplex does not.
+  virtual bool wants_column_cap() const { return false; }
 
   // Solves from the previous basis. kInfeasible when no column values satisfy the bounds and
   // rows; an error only when the solver fails (numerical trouble, unboundedness).

@@ -52,6 +52,7 @@ double SheetSubproblem::RowLowerBound(int32_t r) const {
 
 void SheetSubproblem::Build() {
   lp_ = context_->new_lp(2 * static_cast<int>(bundles_.size()));
+  cap_ = lp_->wants_column_cap() ? context_->column_cap : kLpInfinity;
   LpRowBatch batch;
   for (int32_t e : equalities_) AppendRow((*context_->equalities)[e], 0.0, 0.0, &batch);
   lp_->AddRows(batch);
@@ -138,7 +139,7 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   SetRequestBounds(request);
   optimal = RunSolver();
   if (optimal.ok() && *optimal) ReadSheet(sheet);
-  cap_ = context_->column_cap;
+  cap_ = lp_->wants_column_cap() ? context_->column_cap : kLpInfinity;
   ResetAllColumnPairs();
   return optimal;
 }

@@ -10,14 +10,15 @@
 // mode changes, the Delta+/Delta- upper bounds (uniform-sign and non-deflating modes, eq. 7g).
 // Everything that stays is left to the solver's warm start.
 //
-// The columns are capped at a large finite value (SheetLpContext::column_cap) instead of being
-// unbounded. With unbounded columns, every weight change that leaves the warm basis dual
-// infeasible makes CLP's dual simplex put artificial bounds on the columns and then clean up
-// with a primal simplex that refactorizes the whole basis: half of the CPU time on a 10k-arc
-// mesh. With boxed columns the dual simplex repairs dual infeasibilities by bound flips. The cap
-// never cuts off an answer: a solve whose solution reaches it, or that the cap makes infeasible,
-// is repeated with the cap lifted, and an LP optimum strictly inside the box is an optimum
-// without it (among tied optima the solver may pick another vertex, as any warm start may).
+// For LPs that want it (SheetLp::wants_column_cap, i.e. CLP), the columns are capped at a large
+// finite value (SheetLpContext::column_cap) instead of being unbounded. With unbounded columns,
+// every weight change that leaves the warm basis dual infeasible makes CLP's dual simplex put
+// artificial bounds on the columns and then clean up with a primal simplex that refactorizes the
+// whole basis: half of the CPU time on a 10k-arc mesh. With boxed columns the dual simplex repairs
+// dual infeasibilities by bound flips. The cap never cuts off an answer: a solve whose solution
+// reaches it, or that the cap makes infeasible, is repeated with the cap lifted, and an LP optimum
+// strictly inside the box is an optimum without it (among tied optima the solver may pick another
+// vertex, as any warm start may).
 #ifndef ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 #define ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 
@@ -141,7 +142,8 @@ class SheetSubproblem {
   std::vector<uint8_t> bundle_dirty_;  // by local index
   std::vector<int32_t> dirty_rows_;
   bool allow_inflation_ = true, allow_deflation_ = true;
-  double cap_;  // the context's column_cap, or +inf during a repeat without it
+  // The context's column_cap if the LP wants it, +inf otherwise and during a repeat without it.
+  double cap_;
   WeightScheme weights_ = WeightScheme::kTiered;
   int32_t root_local_ = kNoId;
   std::vector<int32_t> blocked_locals_;  // column pairs whose bounds a request changed

@@ -1,12 +1,16 @@
-// The CLP back end of the sheet LPs: known optima, infeasibility, and warm-started solves after
-// in-place edits agreeing with solves of freshly built models.
-#include "core/isp/clp_sheet_lp.h"
+// Every back end of the sheet LPs (core/isp/sheet_lp.h): known optima, infeasibility, and
+// warm-started solves after in-place edits agreeing with CLP's solves of freshly built models.
+#include "core/isp/sheet_lp.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
+#include "core/isp/clp_sheet_lp.h"
+#include "core/isp/dual_simplex_sheet_lp.h"
 #include "core/isp/lcd_scaling.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -31,18 +35,18 @@ double Objective(const SheetLp& lp, const std::vector<double>& costs) {
   return sum;
 }
 
-class ClpSheetLpTest : public ::testing::TestWithParam<ClpAlgorithm> {
- protected:
-  std::unique_ptr<SheetLp> NewLp(int columns) {
-    ClpSheetLpOptions options;
-    options.algorithm = GetParam();
+struct BackEnd {
+  std::string name;
+  SheetLpFactory factory;
+};
 
-    return NewClpSheetLp(columns, options);
-  }
+class SheetLpTest : public ::testing::TestWithParam<BackEnd> {
+ protected:
+  std::unique_ptr<SheetLp> NewLp(int columns) { return GetParam().factory(columns); }
 };
 
 // A sheet through a root in the smallest possible LP: x0 = x1 (consistency), x0 >= 1 (pump).
-TEST_P(ClpSheetLpTest, PumpedRootPropagatesThroughConsistency) {
+TEST_P(SheetLpTest, PumpedRootPropagatesThroughConsistency) {
   std::unique_ptr<SheetLp> lp = NewLp(3);
   EXPECT_EQ(lp->num_columns(), 3);
   AddRow(*lp, {0, 1}, {1, -1}, 0, 0);
@@ -59,7 +63,7 @@ TEST_P(ClpSheetLpTest, PumpedRootPropagatesThroughConsistency) {
               ElementsAre(DoubleNear(1, 1e-9), DoubleNear(1, 1e-9), DoubleNear(0, 1e-9)));
 }
 
-TEST_P(ClpSheetLpTest, ReportsInfeasibilityAndRecovers) {
+TEST_P(SheetLpTest, ReportsInfeasibilityAndRecovers) {
   std::unique_ptr<SheetLp> lp = NewLp(2);
   AddRow(*lp, {0, 1}, {1, 1}, 2, kLpInfinity);
   lp->SetObjectiveCoefficient(0, 1);
@@ -78,7 +82,7 @@ TEST_P(ClpSheetLpTest, ReportsInfeasibilityAndRecovers) {
 
 // The odd cycle x0 + x1 >= 1, x1 + x2 >= 1, x0 + x2 >= 1 has the half-integral optimum 1/2 each,
 // like the T-junction U-turns of the paper's Figs. 6 and 7: lcd 2.
-TEST_P(ClpSheetLpTest, HalfIntegralVertexHasLcdTwo) {
+TEST_P(SheetLpTest, HalfIntegralVertexHasLcdTwo) {
   std::unique_ptr<SheetLp> lp = NewLp(3);
   AddRow(*lp, {0, 1}, {1, 1}, 1, kLpInfinity);
   AddRow(*lp, {1, 2}, {1, 1}, 1, kLpInfinity);
@@ -94,7 +98,7 @@ TEST_P(ClpSheetLpTest, HalfIntegralVertexHasLcdTwo) {
 
 // A sequence of edits of the kinds the quantizer makes (weights, root bounds, row bounds,
 // appended rows) on one live model must give the optimum of a model built from scratch.
-TEST_P(ClpSheetLpTest, WarmStartedSolvesMatchFreshModels) {
+TEST_P(SheetLpTest, WarmStartedSolvesMatchFreshModels) {
   constexpr int kColumns = 12;
   std::mt19937 random(7);
   std::uniform_real_distribution<double> cost(0.1, 10);
@@ -151,7 +155,7 @@ TEST_P(ClpSheetLpTest, WarmStartedSolvesMatchFreshModels) {
       add_row(row);
     }
 
-    std::unique_ptr<SheetLp> fresh = NewLp(kColumns);
+    std::unique_ptr<SheetLp> fresh = NewClpSheetLp(kColumns);
     for (const Row& row : rows) AddRow(*fresh, row.columns, row.coefs, row.lower, kLpInfinity);
     for (int c = 0; c < kColumns; ++c) {
       fresh->SetObjectiveCoefficient(c, costs[c]);
@@ -168,11 +172,15 @@ TEST_P(ClpSheetLpTest, WarmStartedSolvesMatchFreshModels) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Algorithms, ClpSheetLpTest,
-                         ::testing::Values(ClpAlgorithm::kDual, ClpAlgorithm::kPrimal),
-                         [](const auto& info) {
-                           return info.param == ClpAlgorithm::kDual ? "Dual" : "Primal";
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    BackEnds, SheetLpTest,
+    ::testing::Values(BackEnd{"SparseDualSimplex", DualSimplexSheetLpFactory()},
+                      BackEnd{"ClpDual", ClpSheetLpFactory({.algorithm = ClpAlgorithm::kDual})},
+                      BackEnd{"ClpPrimal", ClpSheetLpFactory({.algorithm = ClpAlgorithm::kPrimal})},
+                      // Every solve handed to the CLP fallback.
+                      BackEnd{"SparseDualSimplexFallback",
+                              DualSimplexSheetLpFactory({.max_iterations = 0})}),
+    [](const auto& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace ispq

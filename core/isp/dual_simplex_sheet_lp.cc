@@ -1,0 +1,87 @@
+#include "core/isp/dual_simplex_sheet_lp.h"
+
+#include <vector>
+
+#include "absl/status/status.h"
+#include "core/isp/clp_sheet_lp.h"
+
+namespace ispq {
+namespace {
+
+class DualSimplexSheetLp final : public SheetLp {
+ public:
+  DualSimplexSheetLp(int num_columns, const SparseDualSimplexOptions& options)
+      : simplex_(num_columns, options) {}
+
+  int num_columns() const override { return simplex_.num_columns(); }
+  int num_rows() const override { return simplex_.num_rows(); }
+  void SetObjectiveCoefficient(int column, double value) override {
+    simplex_.SetObjectiveCoefficient(column, value);
+  }
+  void SetColumnBounds(int column, double lower, double upper) override {
+    simplex_.SetColumnBounds(column, lower, upper);
+  }
+  void SetRowBounds(int row, double lower, double upper) override {
+    simplex_.SetRowBounds(row, lower, upper);
+  }
+  void AddRows(const LpRowBatch& batch) override { simplex_.AddRows(batch); }
+
+  absl::StatusOr<LpOutcome> Solve() override {
+    used_fallback_ = false;
+    switch (simplex_.Solve()) {
+      case SparseDualSimplex::Status::kOptimal:
+        return LpOutcome::kOptimal;
+      case SparseDualSimplex::Status::kInfeasible:
+        return LpOutcome::kInfeasible;
+      case SparseDualSimplex::Status::kFailed:
+        break;
+    }
+    return SolveWithClp();
+  }
+
+  std::span<const double> column_values() const override {
+    return used_fallback_ ? std::span<const double>(fallback_values_) : simplex_.column_values();
+  }
+
+ private:
+  // The model as it stands, solved from scratch by CLP.
+  absl::StatusOr<LpOutcome> SolveWithClp() {
+    used_fallback_ = true;
+    const int n = simplex_.num_columns(), m = simplex_.num_rows();
+    std::unique_ptr<SheetLp> clp = NewClpSheetLp(n);
+    LpRowBatch rows;
+    const auto starts = simplex_.row_starts();
+    for (int i = 0; i < m; ++i) {
+      rows.Add(simplex_.row_columns().subspan(starts[i], starts[i + 1] - starts[i]),
+               simplex_.row_coefs().subspan(starts[i], starts[i + 1] - starts[i]),
+               simplex_.lower(n + i), simplex_.upper(n + i));
+    }
+    clp->AddRows(rows);
+    for (int j = 0; j < n; ++j) {
+      clp->SetObjectiveCoefficient(j, simplex_.objective(j));
+      clp->SetColumnBounds(j, simplex_.lower(j), simplex_.upper(j));
+    }
+    absl::StatusOr<LpOutcome> outcome = clp->Solve();
+    if (outcome.ok() && *outcome == LpOutcome::kOptimal) {
+      fallback_values_.assign(clp->column_values().begin(), clp->column_values().end());
+    }
+    return outcome;
+  }
+
+  SparseDualSimplex simplex_;
+  bool used_fallback_ = false;
+  std::vector<double> fallback_values_;
+};
+
+}  // namespace
+
+std::unique_ptr<SheetLp> NewDualSimplexSheetLp(int num_columns,
+                                               const SparseDualSimplexOptions& options) {
+  return std::make_unique<DualSimplexSheetLp>(num_columns, options);
+}
+
+SheetLpFactory DualSimplexSheetLpFactory(const SparseDualSimplexOptions& options) {
+  return [options](int num_columns) { return NewDualSimplexSheetLp(num_columns, options); };
+}
+
+}  // namespace ispq

@@ -1,0 +1,759 @@
+#include "core/isp/sparse_dual_simplex.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "CoinFactorization.hpp"
+#include "CoinIndexedVector.hpp"
+
+namespace ispq {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// Entries of FTRAN/BTRAN results below this are cancellation noise (CoinIndexedVector keeps
+// cancelled entries as 1e-100).
+constexpr double kNoise = 1e-12;
+// The pivot element seen in the pivot row and in the FTRAN'd entering column must agree to this
+// relative accuracy, else the factorization has drifted and is rebuilt.
+constexpr double kPivotAgreement = 1e-7;
+
+bool IsFinite(double x) { return std::abs(x) < kInf; }
+
+}  // namespace
+
+SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOptions& options)
+    : options_(options),
+      num_columns_(num_columns),
+      column_start_(num_columns + 1, 0),
+      lower_(num_columns, 0.0),
+      upper_(num_columns, kInf),
+      cost_(num_columns, 0.0),
+      value_(num_columns, 0.0),
+      reduced_cost_(num_columns, 0.0),
+      status_(num_columns, VarStatus::kAtLower),
+      position_(num_columns, -1),
+      edge_weight_(num_columns, 1.0),
+      factorization_(std::make_unique<CoinFactorization>()),
+      work_(std::make_unique<CoinIndexedVector>()),
+      column_(std::make_unique<CoinIndexedVector>()),
+      row_(std::make_unique<CoinIndexedVector>()),
+      tau_(std::make_unique<CoinIndexedVector>()),
+      pending_primal_(std::make_unique<CoinIndexedVector>()),
+      pending_cost_(std::make_unique<CoinIndexedVector>()),
+      is_nonzero_nonbasic_(num_columns, 0),
+      alpha_(num_columns, 0.0) {}
+
+SparseDualSimplex::~SparseDualSimplex() = default;
+
+// ---------------------------------------------------------------------------------------------
+// Edits
+
+void SparseDualSimplex::SetObjectiveCoefficient(int column, double value) {
+  const double delta = value - cost_[column];
+  if (delta == 0) return;
+  cost_[column] = value;
+  if (!factorization_valid_) return;  // the next refactorization recomputes every reduced cost
+  if (status_[column] == VarStatus::kBasic) {
+    // y changes by B^-T (delta e_position): deferred to one BTRAN for all such edits.
+    pending_cost_->quickAdd(position_[column], delta);
+    has_pending_cost_ = true;
+  } else {
+    reduced_cost_[column] += delta;
+    dual_check_.push_back(column);
+  }
+}
+
+void SparseDualSimplex::SetColumnBounds(int column, double lower, double upper) {
+  lower_[column] = lower;
+  upper_[column] = upper;
+  if (status_[column] == VarStatus::kBasic) {
+    if (factorization_valid_) MarkPrimalCandidate(position_[column]);
+  } else {
+    PlaceNonbasic(column);
+    dual_check_.push_back(column);
+  }
+}
+
+void SparseDualSimplex::SetRowBounds(int row, double lower, double upper) {
+  const int v = num_columns_ + row;
+  lower_[v] = lower;
+  upper_[v] = upper;
+  if (status_[v] == VarStatus::kBasic) {
+    if (factorization_valid_) MarkPrimalCandidate(position_[v]);
+  } else {
+    PlaceNonbasic(v);
+    dual_check_.push_back(v);
+  }
+}
+
+void SparseDualSimplex::AddRows(const LpRowBatch& batch) {
+  if (batch.size() == 0) return;
+  for (int k = 0; k < batch.size(); ++k) {
+    // Repeated columns are merged (the factorization wants each entry once) and zeros dropped.
+    const size_t begin = row_column_.size();
+    for (int32_t t = batch.starts()[k]; t < batch.starts()[k + 1]; ++t) {
+      const int32_t j = batch.columns()[t];
+      size_t at = begin;
+      while (at < row_column_.size() && row_column_[at] != j) ++at;
+      if (at == row_column_.size()) {
+        row_column_.push_back(j);
+        row_coef_.push_back(0);
+      }
+      row_coef_[at] += batch.coefs()[t];
+    }
+    size_t kept = begin;
+    for (size_t t = begin; t < row_column_.size(); ++t) {
+      if (row_coef_[t] == 0) continue;
+      row_column_[kept] = row_column_[t];
+      row_coef_[kept++] = row_coef_[t];
+    }
+    row_column_.resize(kept);
+    row_coef_.resize(kept);
+    row_start_.push_back(static_cast<int32_t>(row_column_.size()));
+    // The new row's logical joins the basis; its value is set by the refactorization.
+    lower_.push_back(batch.lower()[k]);
+    upper_.push_back(batch.upper()[k]);
+    cost_.push_back(0);
+    value_.push_back(0);
+    reduced_cost_.push_back(0);
+    status_.push_back(VarStatus::kBasic);
+    position_.push_back(-1);
+    alpha_.push_back(0);
+    edge_weight_.push_back(1);
+    is_nonzero_nonbasic_.push_back(0);
+  }
+  num_rows_ += batch.size();
+  // The column copy, rebuilt from the row copy.
+  std::fill(column_start_.begin(), column_start_.end(), 0);
+  for (int32_t j : row_column_) ++column_start_[j + 1];
+  for (int j = 0; j < num_columns_; ++j) column_start_[j + 1] += column_start_[j];
+  column_row_.resize(row_column_.size());
+  column_coef_.resize(row_column_.size());
+  std::vector<int32_t> next(column_start_.begin(), column_start_.end() - 1);
+  for (int i = 0; i < num_rows_; ++i) {
+    for (int32_t t = row_start_[i]; t < row_start_[i + 1]; ++t) {
+      const int32_t k = next[row_column_[t]]++;
+      column_row_[k] = i;
+      column_coef_[k] = row_coef_[t];
+    }
+  }
+  factorization_valid_ = false;
+}
+
+void SparseDualSimplex::PlaceNonbasic(int v) {
+  const double l = lower_[v], u = upper_[v];
+  double target;
+  if (l == u) {
+    status_[v] = VarStatus::kAtLower;
+    target = l;
+  } else if (IsFinite(l) && (reduced_cost_[v] >= 0 || !IsFinite(u))) {
+    status_[v] = VarStatus::kAtLower;
+    target = l;
+  } else if (IsFinite(u)) {
+    status_[v] = VarStatus::kAtUpper;
+    target = u;
+  } else {
+    status_[v] = VarStatus::kFree;
+    target = 0;
+  }
+  MoveNonbasicTo(v, target);
+}
+
+void SparseDualSimplex::MoveNonbasicTo(int v, double value) {
+  const double delta = value - value_[v];
+  if (delta == 0) return;
+  value_[v] = value;
+  NoteNonbasicValue(v);
+  if (!factorization_valid_) return;  // the refactorization recomputes the basic values
+  // x_B = -B^-1 N x_N: deferred to one FTRAN for all moved nonbasic variables.
+  AddColumnTo(v, delta, pending_primal_.get());
+  has_pending_primal_ = true;
+}
+
+void SparseDualSimplex::AddColumnTo(int v, double scale, CoinIndexedVector* vector) const {
+  if (IsLogical(v)) {
+    vector->quickAdd(v - num_columns_, -scale);
+    return;
+  }
+  for (int32_t t = column_start_[v]; t < column_start_[v + 1]; ++t) {
+    vector->quickAdd(column_row_[t], scale * column_coef_[t]);
+  }
+}
+
+void SparseDualSimplex::ApplyPendingPrimalChange() {
+  if (!has_pending_primal_) return;
+  has_pending_primal_ = false;
+  factorization_->updateColumn(work_.get(), pending_primal_.get());
+  const double* w = pending_primal_->denseVector();
+  const int* index = pending_primal_->getIndices();
+  for (int k = 0; k < pending_primal_->getNumElements(); ++k) {
+    const int position = index[k];
+    if (w[position] == 0) continue;
+    value_[basic_variable_[position]] -= w[position];
+    NoteBasicValue(position);
+    MarkPrimalCandidate(position);
+  }
+  pending_primal_->clear();
+}
+
+void SparseDualSimplex::ApplyPendingCostChange() {
+  if (!has_pending_cost_) return;
+  has_pending_cost_ = false;
+  // delta y = B^-T delta c_B; every nonbasic reduced cost d_v = c_v - col_v^T y moves with it.
+  factorization_->updateColumnTranspose(work_.get(), pending_cost_.get());
+  const double* dy = pending_cost_->denseVector();
+  const int* index = pending_cost_->getIndices();
+  for (int k = 0; k < pending_cost_->getNumElements(); ++k) {
+    const int row = index[k];
+    const double delta = dy[row];
+    if (std::abs(delta) < kNoise) continue;
+    const int logical = num_columns_ + row;
+    if (status_[logical] != VarStatus::kBasic) {
+      reduced_cost_[logical] += delta;  // the logical's column is -e_row
+      dual_check_.push_back(logical);
+    }
+    for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
+      const int32_t j = row_column_[t];
+      if (status_[j] == VarStatus::kBasic) continue;
+      reduced_cost_[j] -= row_coef_[t] * delta;
+      dual_check_.push_back(j);
+    }
+  }
+  pending_cost_->clear();
+}
+
+double SparseDualSimplex::DualTolerance(int v) const {
+  // Absolute, plus the rounding error a reduced cost of this magnitude carries.
+  return options_.dual_tolerance + 1e-14 * std::abs(cost_[v]);
+}
+
+bool SparseDualSimplex::DualInfeasible(int v) const {
+  if (lower_[v] == upper_[v]) return false;
+  const double d = reduced_cost_[v], tol = DualTolerance(v);
+  switch (status_[v]) {
+    case VarStatus::kAtLower:
+      return d < -tol;
+    case VarStatus::kAtUpper:
+      return d > tol;
+    case VarStatus::kFree:
+      return std::abs(d) > tol;
+    case VarStatus::kBasic:
+      return false;
+  }
+  return false;
+}
+
+bool SparseDualSimplex::RepairDualFeasibility() {
+  bool repaired = true;
+  for (int32_t v : dual_check_) {
+    if (status_[v] == VarStatus::kBasic || !DualInfeasible(v)) continue;
+    const double d = reduced_cost_[v];
+    if (d < 0) {
+      // Without a finite upper bound the column goes to an artificial one, which the solve must
+      // leave behind (see Solve()).
+      status_[v] = VarStatus::kAtUpper;
+      if (IsFinite(upper_[v])) {
+        MoveNonbasicTo(v, upper_[v]);
+      } else {
+        MoveNonbasicTo(v, options_.artificial_bound);
+        at_artificial_bound_.push_back(v);
+      }
+    } else if (d > 0 && IsFinite(lower_[v])) {
+      status_[v] = VarStatus::kAtLower;
+      MoveNonbasicTo(v, lower_[v]);
+    } else {
+      repaired = false;
+      break;
+    }
+  }
+  dual_check_.clear();
+  return repaired;
+}
+
+bool SparseDualSimplex::LeftArtificialBounds() {
+  // A column still at its artificial bound at the end would move further without it: the LP may
+  // be unbounded, or the bound decided the vertex. Either way this is not the LP's answer.
+  for (int32_t v : at_artificial_bound_) {
+    if (status_[v] == VarStatus::kAtUpper && !IsFinite(upper_[v])) return false;
+  }
+  at_artificial_bound_.clear();
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Basis and factorization
+
+void SparseDualSimplex::ResetToSlackBasis() {
+  ++slack_resets_;
+  at_artificial_bound_.clear();
+  std::fill(edge_weight_.begin(), edge_weight_.end(), 1.0);
+  for (int j = 0; j < num_columns_; ++j) {
+    status_[j] = VarStatus::kAtLower;
+    position_[j] = -1;
+    reduced_cost_[j] = cost_[j];
+  }
+  for (int v = num_columns_; v < num_variables(); ++v) status_[v] = VarStatus::kBasic;
+  factorization_valid_ = false;
+  for (int j = 0; j < num_columns_; ++j) PlaceNonbasic(j);
+}
+
+bool SparseDualSimplex::Refactorize() {
+  ++refactorizations_;
+  factorization_valid_ = false;
+  const int m = num_rows_;
+  const int capacity = m + options_.max_pivots + 16;
+  for (CoinIndexedVector* v : {work_.get(), column_.get(), row_.get(), tau_.get(),
+                               pending_primal_.get(), pending_cost_.get()}) {
+    v->clear();
+    if (v->capacity() < capacity) v->reserve(capacity);
+  }
+  has_pending_primal_ = has_pending_cost_ = false;
+  basic_variable_.assign(m, -1);
+  is_primal_candidate_.assign(m, 0);
+  primal_candidates_.clear();
+  if (m == 0) {
+    for (int j = 0; j < num_columns_; ++j) {
+      reduced_cost_[j] = status_[j] == VarStatus::kBasic ? 0 : cost_[j];
+    }
+    factorization_valid_ = true;
+    return true;
+  }
+  std::vector<int32_t> basics, rows, columns;
+  std::vector<double> elements;
+  for (int v = 0; v < num_variables(); ++v) {
+    if (status_[v] != VarStatus::kBasic) continue;
+    const int k = static_cast<int>(basics.size());
+    basics.push_back(v);
+    if (IsLogical(v)) {
+      rows.push_back(v - num_columns_);
+      columns.push_back(k);
+      elements.push_back(-1);
+    } else {
+      for (int32_t t = column_start_[v]; t < column_start_[v + 1]; ++t) {
+        rows.push_back(column_row_[t]);
+        columns.push_back(k);
+        elements.push_back(column_coef_[t]);
+      }
+    }
+  }
+  if (static_cast<int>(basics.size()) != m) return false;
+  factorization_->maximumPivots(options_.max_pivots);
+  std::vector<int32_t> permutation(m);
+  const int size = static_cast<int>(elements.size());
+  const int area = 3 * m + 3 * size + 20000;
+  int status = -99;
+  for (double area_factor = 1; status == -99 && area_factor <= 64; area_factor *= 2) {
+    status = factorization_->factorize(m, m, size, area, 2 * area, rows.data(), columns.data(),
+                                       elements.data(), permutation.data(), area_factor);
+  }
+  if (status != 0) return false;
+  factorization_->sparseThreshold(0);
+  factorization_->goSparse();
+  factorization_->checkSparse();
+  for (int k = 0; k < m; ++k) {
+    basic_variable_[permutation[k]] = basics[k];
+    position_[basics[k]] = permutation[k];
+  }
+  factorization_valid_ = true;
+  RecomputePrimalValues();
+  RecomputeReducedCosts();
+  for (int position = 0; position < m; ++position) MarkPrimalCandidate(position);
+  return true;
+}
+
+void SparseDualSimplex::RecomputePrimalValues() {
+  // x_B = -B^-1 (N x_N), over the nonbasic variables away from zero; the lists of nonzero
+  // values are rebuilt on the way.
+  nonzero_nonbasic_.clear();
+  is_nonzero_nonbasic_.assign(num_variables(), 0);
+  for (int v = 0; v < num_variables(); ++v) {
+    if (status_[v] != VarStatus::kBasic && value_[v] != 0) {
+      AddColumnTo(v, value_[v], column_.get());
+      NoteNonbasicValue(v);
+    }
+  }
+  factorization_->updateColumn(work_.get(), column_.get());
+  const double* w = column_->denseVector();
+  nonzero_basic_.clear();
+  is_nonzero_basic_.assign(num_rows_, 0);
+  for (int position = 0; position < num_rows_; ++position) {
+    value_[basic_variable_[position]] = std::abs(w[position]) < kNoise ? 0 : -w[position];
+    NoteBasicValue(position);
+  }
+  column_->clear();
+}
+
+void SparseDualSimplex::RecomputeBasicValues() {
+  // The same as RecomputePrimalValues over the kept lists: work proportional to the nonzero
+  // values, not to the model.
+  size_t kept = 0;
+  for (int32_t v : nonzero_nonbasic_) {
+    if (status_[v] == VarStatus::kBasic || value_[v] == 0) {
+      is_nonzero_nonbasic_[v] = 0;
+      continue;
+    }
+    nonzero_nonbasic_[kept++] = v;
+    AddColumnTo(v, value_[v], column_.get());
+  }
+  nonzero_nonbasic_.resize(kept);
+  factorization_->updateColumn(work_.get(), column_.get());
+  const double* w = column_->denseVector();
+  for (int32_t position : nonzero_basic_) {
+    is_nonzero_basic_[position] = 0;
+    double& value = value_[basic_variable_[position]];
+    if (w[position] == 0 && value != 0) {
+      value = 0;
+      MarkPrimalCandidate(position);
+    }
+  }
+  nonzero_basic_.clear();
+  const int* index = column_->getIndices();
+  for (int k = 0; k < column_->getNumElements(); ++k) {
+    const int position = index[k];
+    double& value = value_[basic_variable_[position]];
+    const double fresh = std::abs(w[position]) < kNoise ? 0 : -w[position];
+    if (fresh != value) {
+      value = fresh;
+      MarkPrimalCandidate(position);
+    }
+    NoteBasicValue(position);
+  }
+  column_->clear();
+}
+
+void SparseDualSimplex::NoteBasicValue(int position) {
+  if (is_nonzero_basic_[position] || value_[basic_variable_[position]] == 0) return;
+  is_nonzero_basic_[position] = 1;
+  nonzero_basic_.push_back(position);
+}
+
+void SparseDualSimplex::NoteNonbasicValue(int v) {
+  if (is_nonzero_nonbasic_[v] || value_[v] == 0) return;
+  is_nonzero_nonbasic_[v] = 1;
+  nonzero_nonbasic_.push_back(v);
+}
+
+void SparseDualSimplex::RecomputeReducedCosts() {
+  // y = B^-T c_B, then d_v = c_v - col_v^T y for every variable (0 for the basic ones).
+  for (int position = 0; position < num_rows_; ++position) {
+    const double c = cost_[basic_variable_[position]];
+    if (c != 0) row_->quickAdd(position, c);
+  }
+  factorization_->updateColumnTranspose(work_.get(), row_.get());
+  const double* y = row_->denseVector();
+  for (int j = 0; j < num_columns_; ++j) {
+    double d = cost_[j];
+    for (int32_t t = column_start_[j]; t < column_start_[j + 1]; ++t) {
+      d -= column_coef_[t] * y[column_row_[t]];
+    }
+    reduced_cost_[j] = status_[j] == VarStatus::kBasic ? 0 : d;
+  }
+  for (int i = 0; i < num_rows_; ++i) {
+    const int v = num_columns_ + i;
+    reduced_cost_[v] = status_[v] == VarStatus::kBasic ? 0 : y[i];
+  }
+  row_->clear();
+}
+
+SparseDualSimplex::ScratchCheck SparseDualSimplex::CheckAgainstScratch() {
+  ScratchCheck check;
+  if (!factorization_valid_) return check;
+  const std::vector<double> values = value_, reduced_costs = reduced_cost_;
+  const std::vector<int32_t> nonzero_basic = nonzero_basic_, nonzero_nonbasic = nonzero_nonbasic_;
+  const std::vector<uint8_t> is_nonzero_basic = is_nonzero_basic_,
+                             is_nonzero_nonbasic = is_nonzero_nonbasic_;
+  RecomputePrimalValues();
+  RecomputeReducedCosts();
+  for (int v = 0; v < num_variables(); ++v) {
+    check.value_drift = std::max(check.value_drift, std::abs(values[v] - value_[v]));
+    if (status_[v] == VarStatus::kBasic) {
+      check.primal_infeasibility = std::max(check.primal_infeasibility, Infeasibility(v));
+    } else if (DualInfeasible(v)) {
+      ++check.dual_infeasible;
+    }
+  }
+  value_ = values;
+  reduced_cost_ = reduced_costs;
+  nonzero_basic_ = nonzero_basic;
+  nonzero_nonbasic_ = nonzero_nonbasic;
+  is_nonzero_basic_ = is_nonzero_basic;
+  is_nonzero_nonbasic_ = is_nonzero_nonbasic;
+  return check;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Iterations
+
+double SparseDualSimplex::Infeasibility(int v) const {
+  const double x = value_[v];
+  if (x < lower_[v] - options_.primal_tolerance) return lower_[v] - x;
+  if (x > upper_[v] + options_.primal_tolerance) return x - upper_[v];
+  return 0;
+}
+
+void SparseDualSimplex::MarkPrimalCandidate(int position) {
+  if (is_primal_candidate_[position]) return;
+  is_primal_candidate_[position] = 1;
+  primal_candidates_.push_back(position);
+}
+
+int SparseDualSimplex::ChooseLeavingPosition() {
+  // Dual steepest edge over the candidate list (infeasibility^2 / weight; ties: the smaller
+  // variable); feasible entries are dropped as they are met.
+  int best = -1;
+  double best_infeasibility = 0;
+  size_t kept = 0;
+  for (size_t k = 0; k < primal_candidates_.size(); ++k) {
+    const int position = primal_candidates_[k];
+    const int v = basic_variable_[position];
+    const double infeasibility = Infeasibility(v);
+    if (infeasibility == 0) {
+      // Feasible: a value within the tolerance of a bound is put on it, so that the rounding
+      // of the updates does not show in the answer (1e-10 on a column of weight 1e8 is 0.01).
+      if (std::abs(value_[v] - lower_[v]) <= options_.primal_tolerance) value_[v] = lower_[v];
+      if (std::abs(value_[v] - upper_[v]) <= options_.primal_tolerance) value_[v] = upper_[v];
+      is_primal_candidate_[position] = 0;
+      continue;
+    }
+    primal_candidates_[kept++] = position;
+    const double score = infeasibility * infeasibility / edge_weight_[v];
+    if (score > best_infeasibility || (score == best_infeasibility && v < basic_variable_[best])) {
+      best = position;
+      best_infeasibility = score;
+    }
+  }
+  primal_candidates_.resize(kept);
+  return best;
+}
+
+void SparseDualSimplex::ComputePivotRow(int position) {
+  // rho = B^-T e_position; alpha_v = rho^T col_v for the nonbasic variables in reach.
+  row_->clear();
+  row_->insert(position, 1.0);
+  factorization_->updateColumnTranspose(work_.get(), row_.get());
+  const double* rho = row_->denseVector();
+  const int* index = row_->getIndices();
+  for (int k = 0; k < row_->getNumElements(); ++k) {
+    const int row = index[k];
+    const double r = rho[row];
+    if (std::abs(r) < kNoise) continue;
+    const int logical = num_columns_ + row;
+    if (status_[logical] != VarStatus::kBasic) {
+      if (alpha_[logical] == 0) alpha_touched_.push_back(logical);
+      alpha_[logical] -= r;
+    }
+    for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
+      const int32_t j = row_column_[t];
+      if (status_[j] == VarStatus::kBasic) continue;
+      if (alpha_[j] == 0) alpha_touched_.push_back(j);
+      alpha_[j] += r * row_coef_[t];
+      if (alpha_[j] == 0) alpha_[j] = 1e-300;  // keep it marked as touched
+    }
+  }
+}
+
+bool SparseDualSimplex::RefreshLeavingValue(int position) {
+  // The leaving variable's value from scratch: x_p = -rho^T N x_N, and rho^T col_v is the pivot
+  // row entry alpha_v. Incremental updates drift by rounding (with weights of 1e9 next to 0.1),
+  // and a drifted value must neither start a pivot nor prove the LP infeasible.
+  const int leaving = basic_variable_[position];
+  double value = 0;
+  for (int32_t v : alpha_touched_) value -= alpha_[v] * value_[v];
+  value_[leaving] = value;
+  NoteBasicValue(position);
+  if (Infeasibility(leaving) > 0) return true;
+  for (int32_t v : alpha_touched_) alpha_[v] = 0;
+  alpha_touched_.clear();
+  row_->clear();
+  return false;
+}
+
+int SparseDualSimplex::ChooseEntering(int direction, double* dual_step) {
+  // With the leaving variable below its lower bound (direction +1) the duals move as
+  // d_v + t * alpha_v, above its upper bound (-1) as d_v - t * alpha_v, t >= 0; the entering
+  // variable is the first whose reduced cost reaches zero. Harris' two passes: the bound on t
+  // with every reduced cost allowed to go a tolerance past zero, then the largest |alpha| among
+  // the candidates within it (a stable pivot).
+  double bound = kInf;
+  for (int32_t v : alpha_touched_) {
+    const double a = direction * alpha_[v];
+    if (std::abs(a) < options_.pivot_tolerance || lower_[v] == upper_[v]) continue;
+    const double d = reduced_cost_[v], tol = DualTolerance(v);
+    switch (status_[v]) {
+      case VarStatus::kAtLower:
+        if (a < 0) bound = std::min(bound, (d + tol) / -a);
+        break;
+      case VarStatus::kAtUpper:
+        if (a > 0) bound = std::min(bound, (-d + tol) / a);
+        break;
+      case VarStatus::kFree:
+        bound = std::min(bound, tol / std::abs(a));
+        break;
+      case VarStatus::kBasic:
+        break;
+    }
+  }
+  if (!IsFinite(bound)) return -1;
+  int entering = -1;
+  double best_alpha = 0, step = 0;
+  for (int32_t v : alpha_touched_) {
+    const double a = direction * alpha_[v];
+    if (std::abs(a) < options_.pivot_tolerance || lower_[v] == upper_[v]) continue;
+    const double d = reduced_cost_[v];
+    double ratio;
+    if (status_[v] == VarStatus::kAtLower && a < 0) {
+      ratio = std::max(d, 0.0) / -a;
+    } else if (status_[v] == VarStatus::kAtUpper && a > 0) {
+      ratio = std::max(-d, 0.0) / a;
+    } else if (status_[v] == VarStatus::kFree) {
+      ratio = 0;
+    } else {
+      continue;
+    }
+    if (ratio > bound) continue;
+    if (std::abs(a) > best_alpha || (std::abs(a) == best_alpha && v < entering)) {
+      best_alpha = std::abs(a);
+      entering = v;
+      step = ratio;
+    }
+  }
+  *dual_step = step;
+  return entering;
+}
+
+bool SparseDualSimplex::Pivot(int position, int entering, int direction, double dual_step) {
+  const int leaving = basic_variable_[position];
+  // Dual steepest edge: the exact weight of the leaving row is |rho|^2, and tau = B^-1 rho updates
+  // the others.
+  double rho_norm = 0;
+  {
+    const double* rho = row_->denseVector();
+    const int* index = row_->getIndices();
+    tau_->clear();
+    for (int k = 0; k < row_->getNumElements(); ++k) {
+      const double r = rho[index[k]];
+      if (std::abs(r) < kNoise) continue;
+      rho_norm += r * r;
+      tau_->quickAdd(index[k], r);
+    }
+    row_->clear();
+    factorization_->updateColumn(work_.get(), tau_.get());
+  }
+  column_->clear();
+  AddColumnTo(entering, 1.0, column_.get());
+  factorization_->setCollectStatistics(true);
+  factorization_->updateColumnFT(work_.get(), column_.get());
+  factorization_->setCollectStatistics(false);
+  const double* w = column_->denseVector();
+  const double pivot = w[position];
+  const double alpha = alpha_[entering];
+  if (std::abs(pivot - alpha) > kPivotAgreement * (1 + std::abs(pivot))) {
+    work_->clear();
+    column_->clear();
+    return false;
+  }
+  // Primal: the leaving variable goes to its violated bound, the entering one moves by theta.
+  const double target = direction > 0 ? lower_[leaving] : upper_[leaving];
+  const double theta = (value_[leaving] - target) / pivot;
+  const int* index = column_->getIndices();
+  const double* tau = tau_->denseVector();
+  for (int k = 0; k < column_->getNumElements(); ++k) {
+    const int p = index[k];
+    if (w[p] == 0) continue;
+    value_[basic_variable_[p]] -= w[p] * theta;
+    NoteBasicValue(p);
+    MarkPrimalCandidate(p);
+    if (p != position) {
+      const double ratio = w[p] / pivot;
+      double& weight = edge_weight_[basic_variable_[p]];
+      weight = std::max(weight + ratio * (ratio * rho_norm - 2 * tau[p]), 1e-4);
+    }
+  }
+  edge_weight_[entering] = std::max(rho_norm / (pivot * pivot), 1e-4);
+  tau_->clear();
+  value_[entering] += theta;
+  value_[leaving] = target;
+  NoteNonbasicValue(leaving);
+  // Dual: d_v += direction * t * alpha_v along the pivot row; the leaving variable's reduced cost
+  // becomes direction * t (>= 0 at its lower bound, <= 0 at its upper one).
+  for (int32_t v : alpha_touched_) reduced_cost_[v] += direction * dual_step * alpha_[v];
+  reduced_cost_[entering] = 0;
+  reduced_cost_[leaving] = direction * dual_step;
+  // Basis.
+  const int update = factorization_->replaceColumn(work_.get(), position, pivot);
+  work_->clear();
+  column_->clear();
+  status_[leaving] = direction > 0 ? VarStatus::kAtLower : VarStatus::kAtUpper;
+  if (lower_[leaving] == upper_[leaving]) status_[leaving] = VarStatus::kAtLower;
+  position_[leaving] = -1;
+  status_[entering] = VarStatus::kBasic;
+  position_[entering] = position;
+  basic_variable_[position] = entering;
+  NoteBasicValue(position);
+  MarkPrimalCandidate(position);
+  if (update >= 2) factorization_valid_ = false;  // singular or out of room: rebuild
+  return true;
+}
+
+SparseDualSimplex::Status SparseDualSimplex::Solve() {
+  int64_t iterations = 0;
+  int trouble = 0;
+  bool reset = false;
+  bool values_exact = false;
+  while (true) {
+    if (!factorization_valid_ || factorization_->pivots() >= options_.max_pivots) {
+      dual_check_.clear();
+      if (!Refactorize()) {
+        ResetToSlackBasis();
+        if (!Refactorize()) return Status::kFailed;
+      }
+      // Every reduced cost was recomputed: check them all.
+      for (int v = 0; v < num_variables(); ++v) {
+        if (status_[v] != VarStatus::kBasic && DualInfeasible(v)) dual_check_.push_back(v);
+      }
+    }
+    ApplyPendingCostChange();
+    if (!RepairDualFeasibility()) {
+      if (reset) return Status::kFailed;  // not even the slack basis is dual feasible
+      reset = true;
+      ResetToSlackBasis();
+      continue;
+    }
+    ApplyPendingPrimalChange();
+    const int position = ChooseLeavingPosition();
+    if (position < 0) {
+      // Feasible as far as the kept values tell; the exact ones decide (and are the answer).
+      if (!values_exact) {
+        RecomputeBasicValues();
+        values_exact = true;
+        continue;
+      }
+      return LeftArtificialBounds() ? Status::kOptimal : Status::kFailed;
+    }
+    values_exact = false;
+    if (++iterations > options_.max_iterations) return Status::kFailed;
+    ComputePivotRow(position);
+    if (!RefreshLeavingValue(position)) continue;  // it was only rounding
+    const int leaving = basic_variable_[position];
+    const int direction = value_[leaving] < lower_[leaving] ? 1 : -1;
+    double dual_step = 0;
+    const int entering = ChooseEntering(direction, &dual_step);
+    bool pivoted = false;
+    if (entering >= 0) pivoted = Pivot(position, entering, direction, dual_step);
+    row_->clear();
+    for (int32_t v : alpha_touched_) alpha_[v] = 0;
+    alpha_touched_.clear();
+    // No entering candidate: the pivot row proves the LP infeasible.
+    if (entering < 0) return Status::kInfeasible;
+    if (!pivoted) {
+      if (++trouble > 10) return Status::kFailed;
+      factorization_valid_ = false;
+      continue;
+    }
+    ++iterations_;
+  }
+}
+
+}  // namespace ispq

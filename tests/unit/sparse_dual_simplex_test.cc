@@ -1,0 +1,303 @@
+// The sparse dual simplex (core/isp/sparse_dual_simplex.h) against CLP on long sequences of the
+// edits the quantizer makes to a sheet LP, on its own edge cases, and on what it gives up on.
+#include "core/isp/sparse_dual_simplex.h"
+
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/isp/clp_sheet_lp.h"
+#include "gtest/gtest.h"
+
+namespace ispq {
+namespace {
+
+using Status = SparseDualSimplex::Status;
+
+// A sheet-like LP kept twice: live in the sparse simplex, and as data for fresh CLP solves.
+// Columns come in pairs (Delta+ = 2b, Delta- = 2b + 1) over `bundles` bundles; rows are
+// T-junction equalities x_a = x_b + x_c and inequalities over one to three bundles, written on
+// both columns of each bundle as the sheet LP does.
+class SheetLikeLp {
+ public:
+  SheetLikeLp(int bundles, const SparseDualSimplexOptions& options)
+      : bundles_(bundles),
+        simplex_(2 * bundles, options),
+        cost_(2 * bundles, 1.0),
+        lower_(2 * bundles, 0.0),
+        upper_(2 * bundles, kLpInfinity) {}
+
+  int bundles() const { return bundles_; }
+  SparseDualSimplex& simplex() { return simplex_; }
+
+  void AddRow(const std::vector<std::pair<int, double>>& bundle_terms, double lower, double upper) {
+    std::vector<int32_t> columns;
+    std::vector<double> coefs;
+    for (const auto& [b, c] : bundle_terms) {
+      columns.push_back(2 * b);
+      coefs.push_back(c);
+      columns.push_back(2 * b + 1);
+      coefs.push_back(-c);
+    }
+    LpRowBatch batch;
+    batch.Add(columns, coefs, lower, upper);
+    simplex_.AddRows(batch);
+    rows_.push_back({columns, coefs, lower, upper});
+  }
+  void SetRowLower(int row, double lower) {
+    rows_[row].lower = lower;
+    simplex_.SetRowBounds(row, lower, rows_[row].upper);
+  }
+  void SetCost(int column, double cost) {
+    cost_[column] = cost;
+    simplex_.SetObjectiveCoefficient(column, cost);
+  }
+  void SetBounds(int column, double lower, double upper) {
+    lower_[column] = lower;
+    upper_[column] = upper;
+    simplex_.SetColumnBounds(column, lower, upper);
+  }
+  int num_rows() const { return static_cast<int>(rows_.size()); }
+  double row_lower(int row) const { return rows_[row].lower; }
+
+  // CLP on a model built from scratch: its status, and its objective when optimal.
+  std::pair<LpOutcome, double> SolveFresh() const {
+    std::unique_ptr<SheetLp> lp = NewClpSheetLp(2 * bundles_);
+    LpRowBatch batch;
+    for (const Row& row : rows_) batch.Add(row.columns, row.coefs, row.lower, row.upper);
+    lp->AddRows(batch);
+    for (int j = 0; j < 2 * bundles_; ++j) {
+      lp->SetObjectiveCoefficient(j, cost_[j]);
+      lp->SetColumnBounds(j, lower_[j], upper_[j]);
+    }
+    const absl::StatusOr<LpOutcome> outcome = lp->Solve();
+    EXPECT_TRUE(outcome.ok()) << outcome.status();
+    return {*outcome, *outcome == LpOutcome::kOptimal ? Objective(lp->column_values()) : 0};
+  }
+
+  double Objective(std::span<const double> x) const {
+    double sum = 0;
+    for (int j = 0; j < 2 * bundles_; ++j) sum += cost_[j] * x[j];
+    return sum;
+  }
+  double ObjectiveScale(std::span<const double> x) const {
+    double sum = 0;
+    for (int j = 0; j < 2 * bundles_; ++j) sum += std::abs(cost_[j] * x[j]);
+    return sum;
+  }
+  // The largest violation of a bound or a row by x.
+  double Violation(std::span<const double> x) const {
+    double worst = 0;
+    for (int j = 0; j < 2 * bundles_; ++j) {
+      worst = std::max({worst, lower_[j] - x[j], x[j] - upper_[j]});
+    }
+    for (const Row& row : rows_) {
+      double activity = 0;
+      for (size_t t = 0; t < row.columns.size(); ++t) activity += row.coefs[t] * x[row.columns[t]];
+      worst = std::max({worst, row.lower - activity, activity - row.upper});
+    }
+    return worst;
+  }
+
+ private:
+  struct Row {
+    std::vector<int32_t> columns;
+    std::vector<double> coefs;
+    double lower, upper;
+  };
+  int bundles_;
+  SparseDualSimplex simplex_;
+  std::vector<Row> rows_;
+  std::vector<double> cost_, lower_, upper_;
+};
+
+struct Scenario {
+  uint32_t seed;
+  int max_pivots;  // small values force many refactorizations
+  int bundles;
+};
+
+class SparseDualSimplexVsClpTest : public ::testing::TestWithParam<Scenario> {};
+
+// 300 rounds of quantizer-like edits: weights of a few bundles (an applied sheet), the root
+// moved (bounds of two columns), sometimes a non-deflating mode, a blocked or pinned bundle,
+// changed row slacks and appended rows. After each round the warm sparse simplex must agree with
+// CLP from scratch on feasibility and on the optimal objective, and its solution must be
+// feasible.
+TEST_P(SparseDualSimplexVsClpTest, AgreesWithFreshClpOnEditSequences) {
+  const int kBundles = GetParam().bundles;
+  constexpr double kArcs = 1e4;  // the |A| of the tiered weights
+  std::mt19937 random(GetParam().seed);
+  auto uniform = [&](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(random);
+  };
+  auto pick = [&](int n) { return static_cast<int>(random() % n); };
+  // Weights of eq. 4: toward the target (tier 1), across it (tier 2), away from it (tier 3).
+  auto weight = [&]() {
+    switch (pick(3)) {
+      case 0:
+        return uniform(0.05, 0.5);
+      case 1:
+        return kArcs * uniform(0.5, 1);
+      default:
+        return kArcs * kArcs * uniform(1, 4);
+    }
+  };
+
+  SparseDualSimplexOptions options;
+  options.max_pivots = GetParam().max_pivots;
+  SheetLikeLp lp(kBundles, options);
+  for (int j = 0; j < 2 * kBundles; ++j) lp.SetCost(j, weight());
+  for (int e = 0; e < 3 * kBundles / 4; ++e) {
+    const int a = pick(kBundles), b = pick(kBundles), c = pick(kBundles);
+    if (a == b || b == c || a == c) continue;
+    lp.AddRow({{a, 1}, {b, -1}, {c, -1}}, 0, 0);
+  }
+  auto add_inequality = [&]() {
+    std::vector<std::pair<int, double>> terms;
+    const int count = 1 + pick(3);
+    for (int k = 0; k < count; ++k) terms.push_back({pick(kBundles), pick(4) == 0 ? -1.0 : 1.0});
+    lp.AddRow(terms, -static_cast<double>(pick(4)), kLpInfinity);
+  };
+  for (int r = 0; r < 2 * kBundles / 5; ++r) add_inequality();
+
+  int root = -1, optimal = 0, infeasible = 0;
+  for (int round = 0; round < 300; ++round) {
+    if (root >= 0) {  // release the last request's bounds
+      for (int j = 0; j < 2 * kBundles; ++j) lp.SetBounds(j, 0, kLpInfinity);
+    }
+    for (int k = pick(6); k > 0; --k) lp.SetCost(pick(2 * kBundles), weight());
+    root = pick(kBundles);
+    const bool inflate = pick(2) == 0;
+    lp.SetBounds(2 * root + (inflate ? 0 : 1), 1, kLpInfinity);
+    lp.SetBounds(2 * root + (inflate ? 1 : 0), 0, 0);
+    if (pick(5) == 0) {  // non-deflating mode (eq. 7g)
+      for (int b = 0; b < kBundles; ++b) {
+        if (b != root) lp.SetBounds(2 * b + 1, 0, 0);
+      }
+    }
+    if (pick(4) == 0) lp.SetBounds(2 * pick(kBundles) + pick(2), 0, 0);  // a blocked move
+    if (pick(6) == 0) {                                                  // a pinned bundle
+      const int b = pick(kBundles);
+      if (b != root) lp.SetBounds(2 * b, 1, 1);
+    }
+    for (int k = pick(3); k > 0; --k) {
+      const int r = pick(lp.num_rows());
+      if (lp.row_lower(r) != 0 || pick(2) == 0) lp.SetRowLower(r, -static_cast<double>(pick(4)));
+    }
+    if (round % 50 == 49) add_inequality();
+
+    const Status status = lp.simplex().Solve();
+    ASSERT_NE(status, Status::kFailed) << "round " << round;
+    const auto [expected, objective] = lp.SolveFresh();
+    if (expected == LpOutcome::kInfeasible) {
+      EXPECT_EQ(status, Status::kInfeasible) << "round " << round;
+      ++infeasible;
+      continue;
+    }
+    ASSERT_EQ(status, Status::kOptimal) << "round " << round;
+    ++optimal;
+    const std::span<const double> x = lp.simplex().column_values();
+    EXPECT_LT(lp.Violation(x), 1e-7) << "round " << round;
+    // What was kept incrementally is what the basis gives from scratch: the vertex is optimal.
+    const SparseDualSimplex::ScratchCheck check = lp.simplex().CheckAgainstScratch();
+    // (Values within the primal tolerance, 1e-8, of a bound are put on it.)
+    EXPECT_LT(check.value_drift, 3e-8) << "round " << round;
+    EXPECT_LT(check.primal_infeasibility, 3e-8) << "round " << round;
+    EXPECT_EQ(check.dual_infeasible, 0) << "round " << round;
+
+    // Values are exact to the primal tolerance, and weights reach 1e9: compare relative to the
+    // terms of the objective.
+    EXPECT_NEAR(lp.Objective(x), objective, 1e-8 * (1 + lp.ObjectiveScale(x))) << "round " << round;
+  }
+  // Both outcomes must have been exercised for the comparison to mean something.
+  EXPECT_GT(optimal, 50);
+  EXPECT_GT(infeasible, 10);
+}
+
+INSTANTIATE_TEST_SUITE_P(Sequences, SparseDualSimplexVsClpTest,
+                         ::testing::Values(Scenario{1, 100, 60}, Scenario{2, 100, 60},
+                                           Scenario{3, 100, 60}, Scenario{4, 3, 60},
+                                           Scenario{5, 1, 60}, Scenario{6, 100, 250},
+                                           Scenario{7, 17, 250}),
+                         [](const auto& info) {
+                           return "seed" + std::to_string(info.param.seed) + "_pivots" +
+                                  std::to_string(info.param.max_pivots) + "_bundles" +
+                                  std::to_string(info.param.bundles);
+                         });
+
+TEST(SparseDualSimplexTest, WithoutRowsEveryColumnSitsAtItsCheapestBound) {
+  SparseDualSimplex simplex(3);
+  simplex.SetObjectiveCoefficient(0, 2);
+  simplex.SetColumnBounds(0, 1, 5);
+  simplex.SetObjectiveCoefficient(1, -1);
+  simplex.SetColumnBounds(1, 0, 4);
+  simplex.SetColumnBounds(2, -2, 3);  // cost 0: anywhere; a bound is fine
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  EXPECT_EQ(simplex.column_values()[0], 1);
+  EXPECT_EQ(simplex.column_values()[1], 4);
+}
+
+TEST(SparseDualSimplexTest, ProvesAnEqualityChainInfeasible) {
+  // x0 = x1 = x2 with x0 >= 1 and x2 fixed at 0.
+  SparseDualSimplex simplex(3);
+  LpRowBatch rows;
+  rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, -1}, 0, 0);
+  rows.Add(std::vector<int32_t>{1, 2}, std::vector<double>{1, -1}, 0, 0);
+  simplex.AddRows(rows);
+  for (int j = 0; j < 3; ++j) simplex.SetObjectiveCoefficient(j, 1);
+  simplex.SetColumnBounds(0, 1, kLpInfinity);
+  simplex.SetColumnBounds(2, 0, 0);
+  EXPECT_EQ(simplex.Solve(), Status::kInfeasible);
+  // Freeing x2 makes it feasible again, warm.
+  simplex.SetColumnBounds(2, 0, kLpInfinity);
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(simplex.column_values()[j], 1, 1e-12);
+}
+
+// A column whose cost turns negative with no upper bound is moved to the artificial bound; if it
+// is still there at the end the LP is unbounded (or the artificial bound decided the answer),
+// and the solver says it failed instead of answering.
+TEST(SparseDualSimplexTest, GivesUpOnAnUnboundedLp) {
+  SparseDualSimplex simplex(2);
+  LpRowBatch rows;
+  rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, -1}, 0, 0);
+  simplex.AddRows(rows);
+  simplex.SetObjectiveCoefficient(0, 1);
+  simplex.SetObjectiveCoefficient(1, 1);
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  simplex.SetObjectiveCoefficient(1, -3);  // x0 = x1 -> infinity lowers the objective forever
+  EXPECT_EQ(simplex.Solve(), Status::kFailed);
+  // With a finite bound the same LP has an answer, and the solver recovers.
+  simplex.SetColumnBounds(1, 0, 10);
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  EXPECT_NEAR(simplex.column_values()[1], 10, 1e-9);
+  EXPECT_NEAR(simplex.column_values()[0], 10, 1e-9);
+}
+
+// The same: a cost change that leaves a column dual infeasible with a finite upper bound is
+// repaired by moving it there, and the solve ends at the new optimum.
+TEST(SparseDualSimplexTest, RepairsADualInfeasibleWarmBasis) {
+  SparseDualSimplex simplex(3);
+  LpRowBatch rows;
+  rows.Add(std::vector<int32_t>{0, 1, 2}, std::vector<double>{1, -1, -1}, 0, 0);  // x0 = x1 + x2
+  simplex.AddRows(rows);
+  for (int j = 0; j < 3; ++j) {
+    simplex.SetObjectiveCoefficient(j, 1);
+    simplex.SetColumnBounds(j, 0, 8);
+  }
+  simplex.SetColumnBounds(0, 2, 8);
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  EXPECT_NEAR(simplex.column_values()[0], 2, 1e-12);
+  simplex.SetObjectiveCoefficient(2, -5);  // now x2 (and x0 with it) should go to 8
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  EXPECT_NEAR(simplex.column_values()[0], 8, 1e-12);
+  EXPECT_NEAR(simplex.column_values()[2], 8, 1e-12);
+  EXPECT_NEAR(simplex.column_values()[1], 0, 1e-12);
+}
+
+}  // namespace
+}  // namespace ispq
