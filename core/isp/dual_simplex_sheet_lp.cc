@@ -42,6 +42,13 @@ class DualSimplexSheetLp final : public SheetLp {
   std::span<const double> column_values() const override {
     return used_fallback_ ? std::span<const double>(fallback_values_) : simplex_.column_values();
   }
+  void AppendNonzeroColumns(std::vector<int32_t>* columns) const override {
+    if (used_fallback_) {
+      SheetLp::AppendNonzeroColumns(columns);
+    } else {
+      simplex_.AppendNonzeroColumns(columns);
+    }
+  }
 
  private:
   // The model as it stands, solved from scratch by CLP.

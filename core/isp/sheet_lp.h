@@ -88,6 +88,14 @@ class SheetLp {
   virtual absl::StatusOr<LpOutcome> Solve() = 0;
   // Column values of the last solve that returned kOptimal.
   virtual std::span<const double> column_values() const = 0;
+  // Appends the columns whose value in column_values() is non-zero, in any order (back ends that
+  // track them answer without scanning every column).
+  virtual void AppendNonzeroColumns(std::vector<int32_t>* columns) const {
+    const std::span<const double> x = column_values();
+    for (int j = 0; j < static_cast<int>(x.size()); ++j) {
+      if (x[j] != 0) columns->push_back(j);
+    }
+  }
 };
 
 // Makes the LP of one subproblem with the given number of columns (the engine's only way to get a

@@ -39,7 +39,6 @@ SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOpt
       work_(std::make_unique<CoinIndexedVector>()),
       column_(std::make_unique<CoinIndexedVector>()),
       row_(std::make_unique<CoinIndexedVector>()),
-      tau_(std::make_unique<CoinIndexedVector>()),
       pending_primal_(std::make_unique<CoinIndexedVector>()),
       pending_cost_(std::make_unique<CoinIndexedVector>()),
       is_nonzero_nonbasic_(num_columns, 0),
@@ -304,8 +303,8 @@ bool SparseDualSimplex::Refactorize() {
   factorization_valid_ = false;
   const int m = num_rows_;
   const int capacity = m + options_.max_pivots + 16;
-  for (CoinIndexedVector* v : {work_.get(), column_.get(), row_.get(), tau_.get(),
-                               pending_primal_.get(), pending_cost_.get()}) {
+  for (CoinIndexedVector* v :
+       {work_.get(), column_.get(), row_.get(), pending_primal_.get(), pending_cost_.get()}) {
     v->clear();
     if (v->capacity() < capacity) v->reserve(capacity);
   }
@@ -423,6 +422,16 @@ void SparseDualSimplex::RecomputeBasicValues() {
   column_->clear();
 }
 
+void SparseDualSimplex::AppendNonzeroColumns(std::vector<int32_t>* columns) const {
+  for (int32_t position : nonzero_basic_) {
+    const int v = basic_variable_[position];
+    if (!IsLogical(v) && value_[v] != 0) columns->push_back(v);
+  }
+  for (int32_t v : nonzero_nonbasic_) {
+    if (!IsLogical(v) && status_[v] != VarStatus::kBasic && value_[v] != 0) columns->push_back(v);
+  }
+}
+
 void SparseDualSimplex::NoteBasicValue(int position) {
   if (is_nonzero_basic_[position] || value_[basic_variable_[position]] == 0) return;
   is_nonzero_basic_[position] = 1;
@@ -500,7 +509,7 @@ void SparseDualSimplex::MarkPrimalCandidate(int position) {
 }
 
 int SparseDualSimplex::ChooseLeavingPosition() {
-  // Dual steepest edge over the candidate list (infeasibility^2 / weight; ties: the smaller
+  // Approximate steepest edge over the candidate list (infeasibility^2 / weight; ties: the smaller
   // variable); feasible entries are dropped as they are met.
   int best = -1;
   double best_infeasibility = 0;
@@ -625,21 +634,15 @@ int SparseDualSimplex::ChooseEntering(int direction, double* dual_step) {
 
 bool SparseDualSimplex::Pivot(int position, int entering, int direction, double dual_step) {
   const int leaving = basic_variable_[position];
-  // Dual steepest edge: the exact weight of the leaving row is |rho|^2, and tau = B^-1 rho updates
-  // the others.
+  // The leaving row's exact steepest-edge weight |rho|^2 (rho is at hand).
   double rho_norm = 0;
   {
     const double* rho = row_->denseVector();
     const int* index = row_->getIndices();
-    tau_->clear();
     for (int k = 0; k < row_->getNumElements(); ++k) {
       const double r = rho[index[k]];
-      if (std::abs(r) < kNoise) continue;
-      rho_norm += r * r;
-      tau_->quickAdd(index[k], r);
+      if (std::abs(r) >= kNoise) rho_norm += r * r;
     }
-    row_->clear();
-    factorization_->updateColumn(work_.get(), tau_.get());
   }
   column_->clear();
   AddColumnTo(entering, 1.0, column_.get());
@@ -658,7 +661,6 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
   const double target = direction > 0 ? lower_[leaving] : upper_[leaving];
   const double theta = (value_[leaving] - target) / pivot;
   const int* index = column_->getIndices();
-  const double* tau = tau_->denseVector();
   for (int k = 0; k < column_->getNumElements(); ++k) {
     const int p = index[k];
     if (w[p] == 0) continue;
@@ -666,13 +668,13 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
     NoteBasicValue(p);
     MarkPrimalCandidate(p);
     if (p != position) {
+      // Devex: a row's weight only grows, by the part of the leaving row's it takes over.
       const double ratio = w[p] / pivot;
       double& weight = edge_weight_[basic_variable_[p]];
-      weight = std::max(weight + ratio * (ratio * rho_norm - 2 * tau[p]), 1e-4);
+      weight = std::max(weight, ratio * ratio * rho_norm);
     }
   }
-  edge_weight_[entering] = std::max(rho_norm / (pivot * pivot), 1e-4);
-  tau_->clear();
+  edge_weight_[entering] = std::max(rho_norm / (pivot * pivot), 1.0);
   value_[entering] += theta;
   value_[leaving] = target;
   NoteNonbasicValue(leaving);

@@ -11,8 +11,8 @@
 //   - primal values and reduced costs are updated incrementally: an edit of a nonbasic bound
 //     costs one FTRAN, an edit of a basic cost one BTRAN, a pivot a BTRAN, an FTRAN and the
 //     pivot row over the rows the BTRAN reached;
-//   - the primal infeasibilities are kept in a list, so choosing the leaving row (dual steepest
-//     edge) does not scan all rows;
+//   - the primal infeasibilities are kept in a list, so choosing the leaving row (approximate
+//     steepest edge) does not scan all rows;
 //   - at the end of a solve the basic values are recomputed exactly from the nonzero nonbasic
 //     ones, so that the rounding of the updates never reaches the answer.
 //
@@ -48,7 +48,7 @@ namespace ispq {
 
 struct SparseDualSimplexOptions {
   // Forrest-Tomlin updates between refactorizations.
-  int max_pivots = 100;
+  int max_pivots = 400;
   // A basic variable further than this outside its bounds is infeasible, and one this close to a
   // bound is put on it (absolute: the sheet LPs' primal values are small rationals).
   double primal_tolerance = 1e-8;
@@ -88,6 +88,8 @@ class SparseDualSimplex {
   std::span<const double> column_values() const {
     return {value_.data(), static_cast<size_t>(num_columns_)};
   }
+  // Appends the columns with a non-zero value, in any order: work proportional to them.
+  void AppendNonzeroColumns(std::vector<int32_t>* columns) const;
   // The model as it stands, for a fallback solver.
   double objective(int column) const { return cost_[column]; }
   double lower(int variable) const { return lower_[variable]; }
@@ -175,9 +177,12 @@ class SparseDualSimplex {
   std::vector<double> reduced_cost_;
   std::vector<VarStatus> status_;
   std::vector<int32_t> position_;  // basis position, or -1
-  // Dual steepest-edge weights of the basic variables, |e_p^T B^-1|^2 updated after every pivot
-  // (Forrest-Goldfarb): the leaving row maximizes infeasibility^2 / weight. Exact for the slack
-  // basis (1), kept across refactorizations.
+  // Pricing weights of the basic variables, estimates of the steepest-edge norms |e_p^T B^-1|^2:
+  // the leaving row maximizes infeasibility^2 / weight. Exact for the slack basis (1); after a
+  // pivot the leaving row's is exact (|rho|^2, at hand) and the others are updated as in Devex
+  // (Forrest-Goldfarb's exact update needs B^-1 rho, an FTRAN whose result is dense at scale:
+  // 7000 nonzeros a pivot on a 100k-arc part, 40% of the time, for 2% fewer pivots). Kept
+  // across refactorizations.
   std::vector<double> edge_weight_;
   // Columns moved to the artificial bound since the last optimal solve.
   std::vector<int32_t> at_artificial_bound_;
@@ -187,7 +192,7 @@ class SparseDualSimplex {
   std::unique_ptr<CoinFactorization> factorization_;
   bool factorization_valid_ = false;
   // Work vectors for the factorization (row- or position-indexed, m + max_pivots long).
-  std::unique_ptr<CoinIndexedVector> work_, column_, row_, tau_, pending_primal_, pending_cost_;
+  std::unique_ptr<CoinIndexedVector> work_, column_, row_, pending_primal_, pending_cost_;
   bool has_pending_primal_ = false;
   bool has_pending_cost_ = false;
 
