@@ -12,6 +12,21 @@ namespace {
 // LP values below this are simplex noise, not part of the sheet.
 constexpr double kZeroTolerance = 1e-7;
 
+// Per bundle of `bundles` (ascending), the consistency rows through it.
+FlatLists<int32_t> EqualitiesOfBundles(const SheetLpContext& context,
+                                       std::span<const BundleId> bundles,
+                                       std::span<const int32_t> equalities) {
+  std::vector<std::vector<int32_t>> lists(bundles.size());
+  for (int32_t e : equalities) {
+    for (const LinearTerm& t : (*context.equalities)[e]) {
+      lists[std::lower_bound(bundles.begin(), bundles.end(), t.var) - bundles.begin()].push_back(e);
+    }
+  }
+  FlatLists<int32_t> flat;
+  for (const std::vector<int32_t>& list : lists) flat.Append(list);
+  return flat;
+}
+
 }  // namespace
 
 SheetSubproblem::SheetSubproblem(SheetLpContext* context, std::vector<BundleId> bundles,
@@ -20,6 +35,8 @@ SheetSubproblem::SheetSubproblem(SheetLpContext* context, std::vector<BundleId> 
       bundles_(std::move(bundles)),
       equalities_(std::move(equalities)),
       rows_(std::move(rows)),
+      equalities_of_bundle_(EqualitiesOfBundles(*context, bundles_, equalities_)),
+      infeasibility_(context, bundles_, &equalities_of_bundle_),
       cap_(context->column_cap) {
   for (size_t i = 0; i < bundles_.size(); ++i) {
     context_->local_index_of_bundle[bundles_[i]] = static_cast<int32_t>(i);
@@ -128,6 +145,10 @@ void SheetSubproblem::SetMode(bool allow_inflation, bool allow_deflation) {
 absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, RationalSheet* sheet) {
   PushPendingEdits(request.weights);
   if (!SetRequestBounds(request)) return false;
+  if (context_->refute_by_propagation && infeasibility_.Refutes(request)) {
+    ++refuted_requests_;
+    return false;
+  }
   absl::StatusOr<bool> optimal = RunSolver();
   if (!optimal.ok()) return optimal;
   const bool reaches_cap = *optimal && ReadSheet(sheet);
@@ -203,13 +224,20 @@ absl::StatusOr<bool> SheetSubproblem::RunSolver() {
   return *outcome == LpOutcome::kOptimal;
 }
 
-bool SheetSubproblem::ReadSheet(RationalSheet* sheet) const {
+bool SheetSubproblem::ReadSheet(RationalSheet* sheet) {
   sheet->bundles.clear();
   sheet->values.clear();
   const std::span<const double> x = lp_->column_values();
   const double cap_reached = cap_ - kZeroTolerance;  // +inf without a cap
+  // The column pairs with a non-zero column, ascending (so are their bundles).
+  nonzero_columns_.clear();
+  lp_->AppendNonzeroColumns(&nonzero_columns_);
+  for (int32_t& j : nonzero_columns_) j /= 2;
+  std::sort(nonzero_columns_.begin(), nonzero_columns_.end());
+  nonzero_columns_.erase(std::unique(nonzero_columns_.begin(), nonzero_columns_.end()),
+                         nonzero_columns_.end());
   bool at_cap = false;
-  for (size_t i = 0; i < bundles_.size(); ++i) {
+  for (const int32_t i : nonzero_columns_) {
     at_cap |= x[2 * i] >= cap_reached || x[2 * i + 1] >= cap_reached;
     const double v = x[2 * i] - x[2 * i + 1];
     if (std::abs(v) > kZeroTolerance) {
@@ -221,19 +249,22 @@ bool SheetSubproblem::ReadSheet(RationalSheet* sheet) const {
 }
 
 bool SheetSubproblem::IsConsistent(const IntegerSheet& sheet) {
+  // Only the consistency rows through the sheet's bundles can be violated by it.
   const std::vector<int32_t>& local = context_->local_index_of_bundle;
   for (size_t k = 0; k < sheet.bundles.size(); ++k) {
     scratch_delta_[local[sheet.bundles[k]]] = sheet.deltas[k];
   }
   bool consistent = true;
-  for (int32_t e : equalities_) {
-    int64_t sum = 0;
-    for (const LinearTerm& t : (*context_->equalities)[e]) {
-      sum += t.coef * scratch_delta_[local[t.var]];
-    }
-    if (sum != 0) {
-      consistent = false;
-      break;
+  for (size_t k = 0; k < sheet.bundles.size() && consistent; ++k) {
+    for (int32_t e : equalities_of_bundle_[local[sheet.bundles[k]]]) {
+      int64_t sum = 0;
+      for (const LinearTerm& t : (*context_->equalities)[e]) {
+        sum += t.coef * scratch_delta_[local[t.var]];
+      }
+      if (sum != 0) {
+        consistent = false;
+        break;
+      }
     }
   }
   for (BundleId b : sheet.bundles) scratch_delta_[local[b]] = 0;

@@ -36,45 +36,12 @@
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/inequality_rows.h"
 #include "core/isp/integer_sheet.h"
+#include "core/isp/sheet_infeasibility.h"
 #include "core/isp/sheet_lp.h"
+#include "core/isp/sheet_lp_context.h"
+#include "core/isp/sheet_request.h"
 
 namespace ispq {
-
-// State shared by all subproblem LPs of one quantization run (owned by the driver).
-struct SheetLpContext {
-  const BundleQuantization* quantization;
-  const InequalityRows* rows;
-  const FlatLists<LinearTerm>* equalities;  // consistency rows over bundles
-  double num_arcs;                          // |A| in the weights of eq. 4
-  std::function<std::unique_ptr<SheetLp>(int num_columns)> new_lp;
-  // Per bundle: its column pair index in its current subproblem. Per inequality row: its row
-  // index in its subproblem's LP. Each bundle and row belongs to exactly one subproblem.
-  std::vector<int32_t> local_index_of_bundle;
-  std::vector<int32_t> lp_row_of_row;
-  // Per bundle: whether an always-active row x_b >= 0 exists (a block extent or arc bound over
-  // this bundle alone). A request that would take such a bundle below 0 is infeasible without
-  // asking the solver (common: deflating a root that is already 0).
-  std::vector<uint8_t> has_floor;
-  // Upper bound of every free column (see above). Real sheets move a bundle by a few units.
-  double column_cap = 1024;
-};
-
-enum class WeightScheme : uint8_t {
-  kTiered,        // eq. 4
-  kMarginalCost,  // the bundles' exact objective change per unit (core/sheet_weights.h)
-};
-
-struct SheetRequest {
-  BundleId root = kNoId;  // the pumped bundle (7e/7f); kNoId for a separating solve
-  WeightScheme weights = WeightScheme::kTiered;
-  bool inflate_root = true;
-  bool allow_inflation = true;  // Delta+ may be non-zero off the root
-  bool allow_deflation = true;  // Delta- may be non-zero off the root (false: eq. 7g)
-  // Bundles that must not move in the given direction in this solve (true: inflation).
-  std::span<const std::pair<BundleId, bool>> blocked;
-  // Bundles whose change is fixed to the given integer in this solve.
-  std::span<const std::pair<BundleId, int64_t>> fixed;
-};
 
 // The rational solution of a solve: bundles with a non-zero Delta+ - Delta-, ascending.
 struct RationalSheet {
@@ -103,10 +70,12 @@ class SheetSubproblem {
   // false if the LP is infeasible; on success `sheet` holds the solution. Requests that are
   // infeasible on their face (a root or pinned bundle below its floor) do not reach the solver.
   absl::StatusOr<bool> Solve(const SheetRequest& request, RationalSheet* sheet);
-  // How many times Solve() actually ran the solver, and how many of those were repeats with the
-  // column cap lifted.
+  // How many times Solve() actually ran the solver, how many of those were repeats with the
+  // column cap lifted, and how many requests bound propagation refuted without the solver
+  // (core/isp/sheet_infeasibility.h).
   int64_t solver_calls() const { return solver_calls_; }
   int64_t uncapped_solves() const { return uncapped_solves_; }
+  int64_t refuted_requests() const { return refuted_requests_; }
 
   // Whether an integer sheet over these bundles satisfies every consistency row exactly.
   bool IsConsistent(const IntegerSheet& sheet);
@@ -125,7 +94,7 @@ class SheetSubproblem {
   // Runs the solver; true for kOptimal.
   absl::StatusOr<bool> RunSolver();
   // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
-  bool ReadSheet(RationalSheet* sheet) const;
+  bool ReadSheet(RationalSheet* sheet);
   // Sets every column pair's bounds for the current mode and cap.
   void ResetAllColumnPairs();
   void ResetColumnPair(int32_t local);
@@ -136,7 +105,9 @@ class SheetSubproblem {
   std::vector<BundleId> bundles_;
   std::vector<int32_t> equalities_;
   std::vector<int32_t> rows_;
+  FlatLists<int32_t> equalities_of_bundle_;  // by local index
   std::unique_ptr<SheetLp> lp_;
+  SheetInfeasibility infeasibility_;
 
   std::vector<BundleId> dirty_bundles_;
   std::vector<uint8_t> bundle_dirty_;  // by local index
@@ -146,12 +117,14 @@ class SheetSubproblem {
   double cap_;
   WeightScheme weights_ = WeightScheme::kTiered;
   int32_t root_local_ = kNoId;
-  std::vector<int32_t> blocked_locals_;  // column pairs whose bounds a request changed
-  std::vector<int64_t> scratch_delta_;   // by local index, for IsConsistent
-  std::vector<int32_t> columns_;         // scratch for AppendRow
+  std::vector<int32_t> blocked_locals_;   // column pairs whose bounds a request changed
+  std::vector<int64_t> scratch_delta_;    // by local index, for IsConsistent
+  std::vector<int32_t> nonzero_columns_;  // scratch for ReadSheet
+  std::vector<int32_t> columns_;          // scratch for AppendRow
   std::vector<double> coefs_;
   int64_t solver_calls_ = 0;
   int64_t uncapped_solves_ = 0;
+  int64_t refuted_requests_ = 0;
 };
 
 }  // namespace ispq

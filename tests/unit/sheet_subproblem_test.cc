@@ -5,16 +5,11 @@
 #include <memory>
 #include <vector>
 
-#include "core/arc_bundles.h"
-#include "core/block_extents.h"
-#include "core/consistency_matrix.h"
-#include "core/isp/bundle_quantization.h"
-#include "core/isp/clp_sheet_lp.h"
-#include "core/isp/inequality_rows.h"
 #include "core/isp/lcd_scaling.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/support/grid_tmesh_builder.h"
+#include "tests/support/sheet_lp_fixture.h"
 #include "tests/support/test_data.h"
 #include "tests/support/worked_examples.h"
 
@@ -24,86 +19,12 @@ namespace {
 using ::testing::ElementsAre;
 using ::testing::Optional;
 
-// Everything one subproblem LP over a whole mesh needs, wired as the quantizer wires it.
-class SheetLpFixture {
- public:
-  SheetLpFixture(const TMesh& mesh, double scaling, bool extent_rows,
-                 double column_cap = SheetLpContext{}.column_cap)
-      : consistency_(mesh),
-        bundles_(mesh, consistency_),
-        x_(mesh, bundles_, scaling),
-        rows_(bundles_.num_bundles()) {
-    std::vector<int32_t> equalities;
-    for (int r = 0; r < consistency_.num_rows(); ++r) {
-      const std::vector<LinearTerm> terms = bundles_.ToBundleTerms(consistency_.row(r));
-      if (terms.empty()) continue;
-      equalities.push_back(equalities_.size());
-      equalities_.Append(terms);
-    }
-    context_.quantization = &x_;
-    context_.rows = &rows_;
-    context_.equalities = &equalities_;
-    context_.num_arcs = mesh.num_arcs();
-    context_.column_cap = column_cap;
-    context_.new_lp = [](int columns) { return NewClpSheetLp(columns); };
-    context_.local_index_of_bundle.assign(bundles_.num_bundles(), kNoId);
-    context_.has_floor.assign(bundles_.num_bundles(), 0);
-    std::vector<int32_t> row_ids;
-    if (extent_rows) {
-      for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
-        for (int axis = 0; axis < 3; ++axis) {
-          std::vector<LinearTerm> arc_terms;
-          for (ArcId a : ExtentRowArcs(mesh, b, axis)) arc_terms.push_back({a, 1});
-          const std::vector<LinearTerm> terms = bundles_.ToBundleTerms(arc_terms);
-          if (rows_.Find(terms, 0) != kNoId) continue;
-          row_ids.push_back(AddRow(terms, 0, true));
-          if (terms.size() == 1) context_.has_floor[terms[0].var] = 1;
-        }
-      }
-    }
-    std::vector<BundleId> all(bundles_.num_bundles());
-    for (BundleId b = 0; b < bundles_.num_bundles(); ++b) all[b] = b;
-    lp_ = std::make_unique<SheetSubproblem>(&context_, all, equalities, row_ids);
-  }
-
-  int32_t AddRow(const std::vector<LinearTerm>& terms, int64_t rhs, bool active) {
-    context_.lp_row_of_row.push_back(kNoId);
-    return rows_.Add(terms, rhs, RowOrigin::kStructural, active, x_.values());
-  }
-  // Moves bundles as the driver does: values, row values, LP bookkeeping.
-  void Apply(const IntegerSheet& sheet) {
-    x_.Apply(sheet, 1);
-    for (size_t i = 0; i < sheet.bundles.size(); ++i) {
-      rows_.OnBundleMoved(sheet.bundles[i], sheet.deltas[i]);
-      lp_->MarkBundleMoved(sheet.bundles[i]);
-    }
-  }
-
-  const ArcBundles& bundles() const { return bundles_; }
-  const FlatLists<LinearTerm>& equalities() const { return equalities_; }
-  SheetSubproblem& lp() { return *lp_; }
-  InequalityRows& rows() { return rows_; }
-
- private:
-  ConsistencyMatrix consistency_;
-  ArcBundles bundles_;
-  BundleQuantization x_;
-  InequalityRows rows_;
-  FlatLists<LinearTerm> equalities_;
-  SheetLpContext context_;
-  std::unique_ptr<SheetSubproblem> lp_;
-};
-
-SheetRequest Pump(BundleId root, bool inflate) {
-  SheetRequest request;
-  request.root = root;
-  request.inflate_root = inflate;
-  return request;
-}
+using ::ispq::testing::Pump;
+using ::ispq::testing::SheetLpFixture;
 
 TEST(SheetSubproblemTest, SheetOnASingleCubeIsOneAxisLayer) {
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
-  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  SheetLpFixture fixture(mesh, 0.05);
   ASSERT_EQ(fixture.bundles().num_bundles(), 3);
   for (BundleId root = 0; root < 3; ++root) {
     RationalSheet sheet;
@@ -117,7 +38,7 @@ TEST(SheetSubproblemTest, SheetOnASingleCubeIsOneAxisLayer) {
 
 TEST(SheetSubproblemTest, FloorsBlockDeflationBelowZeroWithoutTheSolver) {
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
-  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  SheetLpFixture fixture(mesh, 0.05);
   RationalSheet sheet;
   const int64_t calls = fixture.lp().solver_calls();
   absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(1, false), &sheet);
@@ -136,9 +57,9 @@ TEST(SheetSubproblemTest, FloorsBlockDeflationBelowZeroWithoutTheSolver) {
   EXPECT_THAT(sheet.values, ElementsAre(::testing::DoubleNear(-1, 1e-9)));
 }
 
-TEST(SheetSubproblemTest, ExtentRowsBoundDeflationThroughTheSolverToo) {
+TEST(SheetSubproblemTest, AnAppendedRowBoundsDeflation) {
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
-  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/false);
+  SheetLpFixture fixture(mesh, 0.05, {.extent_rows = false});
   // Without C rows nothing stops a deflation below 0...
   RationalSheet sheet;
   absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(0, false), &sheet);
@@ -155,7 +76,7 @@ TEST(SheetSubproblemTest, ExtentRowsBoundDeflationThroughTheSolverToo) {
 
 TEST(SheetSubproblemTest, ViolatedRowsInflateASeparatingSheet) {
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
-  SheetLpFixture fixture(mesh, 0.05, /*extent_rows=*/true);
+  SheetLpFixture fixture(mesh, 0.05);
   // x_0 + x_2 >= 1 and x_2 - x_1 >= 1 at q = 0: the cheapest fix inflates bundle 2 alone.
   const std::vector<int32_t> added = {fixture.AddRow({{0, 1}, {2, 1}}, 1, true),
                                       fixture.AddRow({{1, -1}, {2, 1}}, 1, true)};
@@ -183,7 +104,7 @@ TEST(SheetSubproblemTest, ViolatedRowsInflateASeparatingSheet) {
 TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
   // The notch has T-junctions, hence consistency rows that bundling does not eliminate.
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
-  SheetLpFixture fixture(mesh, 0.2, /*extent_rows=*/true);
+  SheetLpFixture fixture(mesh, 0.2);
   RationalSheet rational;
   const absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(0, true), &rational);
   ASSERT_TRUE(feasible.ok());
@@ -207,10 +128,10 @@ TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
 // gets without a cap, because such solves are repeated without it.
 TEST(SheetSubproblemTest, ColumnCapNeverChangesAnAnswer) {
   const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
-  SheetLpFixture uncapped(mesh, 0.2, /*extent_rows=*/true, kLpInfinity);
+  SheetLpFixture uncapped(mesh, 0.2, {.column_cap = kLpInfinity});
   for (const double cap : {0.5, 1.5, SheetLpContext{}.column_cap}) {
     SCOPED_TRACE(cap);
-    SheetLpFixture capped(mesh, 0.2, /*extent_rows=*/true, cap);
+    SheetLpFixture capped(mesh, 0.2, {.column_cap = cap});
     int64_t feasible_solves = 0;
     for (BundleId root = 0; root < capped.bundles().num_bundles(); ++root) {
       for (const bool inflate : {true, false}) {
@@ -240,7 +161,7 @@ TEST(SheetSubproblemTest, UTurnOfTJunctionsGivesAHalfIntegralSheet) {
   const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(example.spec);
   ASSERT_TRUE(grid.ok()) << grid.status();
   const TMesh mesh = testing::TMeshOrDie(grid->proto());
-  SheetLpFixture fixture(mesh, 1.0, /*extent_rows=*/true);
+  SheetLpFixture fixture(mesh, 1.0);
   const ArcId root_arc = grid->ArcBetween(example.root.first, example.root.second);
   ASSERT_GE(root_arc, 0);
   SheetRequest request = Pump(fixture.bundles().bundle_of(root_arc), true);

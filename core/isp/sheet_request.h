@@ -1,0 +1,35 @@
+// What one sheet LP solve asks for (paper App. A, C): the root and the direction it is pumped
+// in (eqs. 7e/7f) or none for a separating solve, the weights, the sign restrictions of the
+// mode (eq. 7g and uniform-sign sheets), and the bundles blocked in one direction or pinned to a
+// value for this solve only.
+#ifndef ISPQ_CORE_ISP_SHEET_REQUEST_H_
+#define ISPQ_CORE_ISP_SHEET_REQUEST_H_
+
+#include <cstdint>
+#include <span>
+#include <utility>
+
+#include "core/arc_bundles.h"
+
+namespace ispq {
+
+enum class WeightScheme : uint8_t {
+  kTiered,        // eq. 4
+  kMarginalCost,  // the bundles' exact objective change per unit (core/isp/sheet_weights.h)
+};
+
+struct SheetRequest {
+  BundleId root = kNoId;  // the pumped bundle (7e/7f); kNoId for a separating solve
+  WeightScheme weights = WeightScheme::kTiered;
+  bool inflate_root = true;
+  bool allow_inflation = true;  // Delta+ may be non-zero off the root
+  bool allow_deflation = true;  // Delta- may be non-zero off the root (false: eq. 7g)
+  // Bundles that must not move in the given direction in this solve (true: inflation).
+  std::span<const std::pair<BundleId, bool>> blocked;
+  // Bundles whose change is fixed to the given integer in this solve.
+  std::span<const std::pair<BundleId, int64_t>> fixed;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_ISP_SHEET_REQUEST_H_
