@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace ispq {
 namespace {
@@ -15,15 +16,21 @@ GreedyQueue::GreedyQueue(const BundleQuantization& quantization, const Inequalit
     : quantization_(quantization),
       rows_(rows),
       stamp_(quantization.num_bundles(), 0),
-      users_(quantization.num_bundles()),
+      supports_of_bundle_(quantization.num_bundles()),
+      support_of_root_(quantization.num_bundles(), -1),
       drop_threshold_(kDependenciesPerBundle * quantization.num_bundles()),
       mark_(quantization.num_bundles(), 0) {}
 
 void GreedyQueue::Reset() {
   started_ = true;
   heap_ = {};
-  for (auto& list : users_) list.clear();
-  num_dependencies_ = 0;
+  pool_.clear();
+  begin_.assign(1, 0);
+  dependents_.clear();
+  dependent_count_.clear();
+  for (auto& list : supports_of_bundle_) list.clear();
+  std::fill(support_of_root_.begin(), support_of_root_.end(), -1);
+  shared_support_.clear();
   for (BundleId b = 0; b < quantization_.num_bundles(); ++b) Push(b);
 }
 
@@ -38,6 +45,7 @@ std::optional<BundleId> GreedyQueue::Pop() {
 
 void GreedyQueue::Push(BundleId b) {
   ++stamp_[b];
+  Attach(b, -1);  // queued: what its last answer depended on no longer matters
   heap_.push({std::abs(quantization_.mean_deviation(b)), b, stamp_[b]});
 }
 
@@ -47,41 +55,108 @@ bool GreedyQueue::Mark(BundleId b) {
   return true;
 }
 
-void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> support) {
-  const int32_t stamp = stamp_[root];
-  if (num_dependencies_ > drop_threshold_) DropOutdatedDependencies();
+void GreedyQueue::Attach(BundleId root, int32_t support) {
+  const int32_t old = support_of_root_[root];
+  if (old == support) return;
+  if (old >= 0) --dependent_count_[old];
+  support_of_root_[root] = support;
+  if (support < 0) return;
+  ++dependent_count_[support];
+  dependents_[support].push_back(root);
+}
+
+int32_t GreedyQueue::AddSupport(std::span<const BundleId> bundles) {
+  const int32_t support = static_cast<int32_t>(dependents_.size());
+  pool_.insert(pool_.end(), bundles.begin(), bundles.end());
+  begin_.push_back(static_cast<int64_t>(pool_.size()));
+  dependents_.emplace_back();
+  dependent_count_.push_back(0);
+  for (BundleId c : bundles) supports_of_bundle_[c].push_back(support);
+  return support;
+}
+
+void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> support,
+                                     std::optional<uint64_t> shared) {
+  if (static_cast<int64_t>(pool_.size()) > drop_threshold_) DropOutdatedDependencies();
+  if (shared.has_value()) {
+    const auto it = shared_support_.find(*shared);
+    if (it != shared_support_.end() && dependent_count_[it->second] >= 0) {
+      Attach(root, it->second);
+      return;
+    }
+  }
+  int32_t id;
   if (!support.empty()) {
-    for (BundleId c : support) users_[c].push_back({root, stamp});
-    num_dependencies_ += static_cast<int64_t>(support.size());
-    return;
+    id = AddSupport(support);
+  } else {
+    // No sheet (infeasible LP): what could change that is the slack of the rows around the root.
+    ++epoch_;
+    affected_.clear();
+    Mark(root);
+    affected_.push_back(root);
+    for (const InequalityRows::Incidence& inc : rows_.rows_of_bundle(root)) {
+      if (!rows_.active(inc.row)) continue;
+      for (const LinearTerm& t : rows_.terms(inc.row)) {
+        if (Mark(t.var)) affected_.push_back(t.var);
+      }
+    }
+    id = AddSupport(affected_);
   }
-  // No sheet (infeasible LP): what could change that is the slack of the rows around the root.
-  users_[root].push_back({root, stamp});
-  ++num_dependencies_;
-  for (const InequalityRows::Incidence& inc : rows_.rows_of_bundle(root)) {
-    if (!rows_.active(inc.row)) continue;
-    for (const LinearTerm& t : rows_.terms(inc.row)) users_[t.var].push_back({root, stamp});
-    num_dependencies_ += static_cast<int64_t>(rows_.terms(inc.row).size());
-  }
+  if (shared.has_value()) shared_support_[*shared] = id;
+  Attach(root, id);
 }
 
 void GreedyQueue::DropOutdatedDependencies() {
-  num_dependencies_ = 0;
-  for (auto& list : users_) {
-    std::erase_if(list, [&](const auto& user) { return user.second != stamp_[user.first]; });
-    num_dependencies_ += static_cast<int64_t>(list.size());
+  // Keep the supports some root depends on, renumbered in order; rebuild the indexes over them.
+  const int32_t count = static_cast<int32_t>(dependents_.size());
+  std::vector<int32_t> renumber(count, -1);
+  std::vector<BundleId> pool;
+  std::vector<int64_t> begin{0};
+  std::vector<std::vector<BundleId>> dependents;
+  std::vector<int32_t> dependent_count;
+  for (auto& list : supports_of_bundle_) list.clear();
+  for (int32_t s = 0; s < count; ++s) {
+    if (dependent_count_[s] <= 0) continue;
+    const int32_t id = static_cast<int32_t>(dependents.size());
+    renumber[s] = id;
+    for (int64_t k = begin_[s]; k < begin_[s + 1]; ++k) {
+      pool.push_back(pool_[k]);
+      supports_of_bundle_[pool_[k]].push_back(id);
+    }
+    begin.push_back(static_cast<int64_t>(pool.size()));
+    std::vector<BundleId>& roots = dependents.emplace_back();
+    for (BundleId root : dependents_[s]) {
+      if (support_of_root_[root] == s) roots.push_back(root);
+    }
+    dependent_count.push_back(dependent_count_[s]);
   }
-  // The current records alone can outnumber the bundles by far (a sheet crosses many bundles):
-  // the next drop waits until the records doubled, so each scan is paid for by as many records.
-  drop_threshold_ = std::max(drop_threshold_, 2 * num_dependencies_);
+  for (int32_t& s : support_of_root_) {
+    if (s >= 0) s = renumber[s];
+  }
+  for (auto it = shared_support_.begin(); it != shared_support_.end();) {
+    it->second = renumber[it->second];
+    it = it->second < 0 ? shared_support_.erase(it) : std::next(it);
+  }
+  pool_ = std::move(pool);
+  begin_ = std::move(begin);
+  dependents_ = std::move(dependents);
+  dependent_count_ = std::move(dependent_count);
+  // The current supports alone can outnumber the bundles by far (a sheet crosses many bundles):
+  // the next drop waits until the pool doubled, so each rebuild is paid for by as many entries.
+  drop_threshold_ = std::max(drop_threshold_, 2 * static_cast<int64_t>(pool_.size()));
 }
 
 void GreedyQueue::RequeueUsers(BundleId c) {
-  for (const auto& [root, stamp] : users_[c]) {
-    if (stamp_[root] == stamp && Mark(root)) Push(root);
+  for (int32_t s : supports_of_bundle_[c]) {
+    if (dependent_count_[s] < 0) continue;  // died already
+    for (BundleId root : dependents_[s]) {
+      if (support_of_root_[root] == s && Mark(root)) Push(root);
+    }
+    // Every dependent is queued again (or was, in this epoch): the support is dead.
+    dependent_count_[s] = -1;
+    std::vector<BundleId>().swap(dependents_[s]);
   }
-  num_dependencies_ -= static_cast<int64_t>(users_[c].size());
-  users_[c].clear();
+  supports_of_bundle_[c].clear();
 }
 
 void GreedyQueue::RequeueUsersOf(std::span<const BundleId> bundles) {

@@ -12,6 +12,11 @@
 // applied in between, rows that joined) instead of from every bundle again. A new row cannot
 // change the answer of a root whose sheet leaves all the row's bundles alone: that sheet still
 // satisfies it and the LP only lost solutions.
+//
+// What an answer depended on (a support) is stored once, however many roots share it: on a large
+// part most checks are answered by another root's sheet (core/isp/sheet_coverage.h), and copying
+// that sheet into per-bundle lists for every root it answered took a third of the memory of a
+// 100k-arc run.
 #ifndef ISPQ_CORE_ISP_GREEDY_QUEUE_H_
 #define ISPQ_CORE_ISP_GREEDY_QUEUE_H_
 
@@ -19,6 +24,7 @@
 #include <optional>
 #include <queue>
 #include <span>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -38,14 +44,16 @@ class GreedyQueue {
   void Reset();
   // Whether Reset() ran since construction.
   bool started() const { return started_; }
-  // Dependencies recorded and not yet used or dropped: at most twice the current ones (those of
-  // each root's last solve) or 32 per bundle, whichever is more.
-  int64_t num_recorded_dependencies() const { return num_dependencies_; }
+  // Bundle entries of the recorded supports, used or not yet dropped: at most twice those of the
+  // current supports (the last answer of each root) or 32 per bundle, whichever is more.
+  int64_t num_recorded_dependencies() const { return static_cast<int64_t>(pool_.size()); }
   // The next root whose entry is current, or nullopt when none is left.
   std::optional<BundleId> Pop();
   // What the last solve of `root` depended on: the bundles of its sheet (`support`), or, for an
-  // infeasible solve (empty support), the slack of the active rows around the root.
-  void RecordDependencies(BundleId root, std::span<const BundleId> support);
+  // infeasible solve (empty support), the slack of the active rows around the root. A `shared`
+  // id names a support several roots record (a covering sheet): it is stored once.
+  void RecordDependencies(BundleId root, std::span<const BundleId> support,
+                          std::optional<uint64_t> shared = std::nullopt);
   // After `sheet` was applied: re-queues every root whose last solve depended on what changed,
   // and the bundles of the sheet themselves.
   void RequeueAfter(const IntegerSheet& sheet);
@@ -68,10 +76,14 @@ class GreedyQueue {
   };
 
   void Push(BundleId b);
+  // Makes `support` the current one of `root`.
+  void Attach(BundleId root, int32_t support);
+  // A new support over these bundles; returns its id.
+  int32_t AddSupport(std::span<const BundleId> bundles);
   // Re-queues the current users of bundle c (once per epoch) and forgets them.
   void RequeueUsers(BundleId c);
-  // Drops the recorded dependencies of solves that are no longer a root's last one, once they
-  // outnumber the bundles by far (they are only dropped otherwise when their bundle changes).
+  // Drops the supports no root depends on any more, once they outnumber the current ones by far
+  // (a support is otherwise only dropped when one of its bundles changes).
   void DropOutdatedDependencies();
   // Marks b in the current epoch; true if it was not marked yet.
   bool Mark(BundleId b);
@@ -80,10 +92,18 @@ class GreedyQueue {
   const InequalityRows& rows_;
   std::priority_queue<Entry, std::vector<Entry>, Order> heap_;
   std::vector<int32_t> stamp_;
-  // Per bundle, the (root, stamp) of the solves that depended on it.
-  std::vector<std::vector<std::pair<BundleId, int32_t>>> users_;
-  int64_t num_dependencies_ = 0;
-  int64_t drop_threshold_;  // outdated records are dropped when there are more records than this
+  // Supports: the bundles of support s are pool_[begin_[s], begin_[s + 1]); its dependents are
+  // the roots whose current support it is (support_of_root_, -1 while a root is queued);
+  // supports_of_bundle_ indexes them by bundle. A support dies when one of its bundles changes
+  // (its dependents are queued again) or when no root depends on it any more.
+  std::vector<BundleId> pool_;
+  std::vector<int64_t> begin_{0};
+  std::vector<std::vector<BundleId>> dependents_;
+  std::vector<int32_t> dependent_count_;  // -1 once dead
+  std::vector<std::vector<int32_t>> supports_of_bundle_;
+  std::vector<int32_t> support_of_root_;
+  std::unordered_map<uint64_t, int32_t> shared_support_;
+  int64_t drop_threshold_;  // dead supports are dropped when the pool is larger than this
   bool started_ = false;
   std::vector<uint32_t> mark_;
   uint32_t epoch_ = 0;

@@ -210,11 +210,10 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
   for (int k = 0; k < (thorough ? 2 : 1); ++k) {
     const bool inflate = (k == 0) == toward_inflation;
     if (covering) {
-      const std::optional<std::span<const BundleId>> answer =
-          coverage_.CoveringSheet(root, inflate);
+      const std::optional<SheetCoverage::Answer> answer = coverage_.CoveringSheet(root, inflate);
       if (answer.has_value()) {
         // The root is pumped again when a bundle of the covering sheet moves.
-        QueueOf(thorough).RecordDependencies(root, *answer);
+        QueueOf(thorough).RecordDependencies(root, answer->bundles, answer->id);
         ++stats_.covered_checks;
         continue;
       }

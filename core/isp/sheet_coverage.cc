@@ -21,11 +21,11 @@ void SheetCoverage::Clear() {
   sheets_.clear();
 }
 
-std::optional<std::span<const BundleId>> SheetCoverage::CoveringSheet(BundleId b,
-                                                                      bool inflate) const {
+std::optional<SheetCoverage::Answer> SheetCoverage::CoveringSheet(BundleId b, bool inflate) const {
   const size_t key = Key(b, inflate);
   if (generation_[key] != current_) return std::nullopt;
-  return std::span<const BundleId>(sheets_[sheet_index_[key]]);
+  const int32_t index = sheet_index_[key];
+  return Answer{sheets_[index], (uint64_t{current_} << 32) | static_cast<uint32_t>(index)};
 }
 
 }  // namespace ispq

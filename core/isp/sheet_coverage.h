@@ -28,8 +28,12 @@ class SheetCoverage {
   void Cover(const IntegerSheet& sheet);
   // Forgets every sheet (the quantization changed).
   void Clear();
-  // The bundles of the sheet that answered (b, inflate), if one did.
-  std::optional<std::span<const BundleId>> CoveringSheet(BundleId b, bool inflate) const;
+  struct Answer {
+    std::span<const BundleId> bundles;  // of the sheet that answered
+    uint64_t id;                        // the sheet's, unique in the run
+  };
+  // The sheet that answered (b, inflate), if one did.
+  std::optional<Answer> CoveringSheet(BundleId b, bool inflate) const;
 
  private:
   static size_t Key(BundleId b, bool inflate) { return 2 * static_cast<size_t>(b) + inflate; }

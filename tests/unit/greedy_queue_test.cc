@@ -2,6 +2,7 @@
 // and re-queuing exactly the roots whose last solve depended on what a sheet changed.
 #include "core/isp/greedy_queue.h"
 
+#include <algorithm>
 #include <optional>
 #include <vector>
 
@@ -129,6 +130,25 @@ TEST_F(GreedyQueueTest, RootsAPassDidNotReachStayQueuedForTheNextOne) {
   queue_.RecordDependencies(u, std::vector<BundleId>{u});
   // The next pass goes on with v and w instead of starting over.
   EXPECT_EQ(Drain(), (std::vector<BundleId>{v, w}));
+}
+
+// Roots answered by one covering sheet record it once, and all come back when it changes.
+TEST_F(GreedyQueueTest, RootsAnsweredByTheSameSheetShareItsRecord) {
+  const BundleId u = BundleAlong(0), v = BundleAlong(1), w = BundleAlong(2);
+  queue_.Reset();
+  Drain();
+  const std::vector<BundleId> sheet_bundles = {std::min(u, v), std::max(u, v)};
+  queue_.RecordDependencies(u, sheet_bundles, /*shared=*/7);
+  queue_.RecordDependencies(w, sheet_bundles, /*shared=*/7);
+  EXPECT_EQ(queue_.num_recorded_dependencies(), 2);
+  IntegerSheet only_v;
+  only_v.bundles = {v};
+  only_v.deltas = {1};
+  queue_.RequeueAfter(only_v);
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{u, v, w}));
+  // The record is used up: another change of v re-queues v alone.
+  queue_.RequeueAfter(only_v);
+  EXPECT_EQ(Drain(), (std::vector<BundleId>{v}));
 }
 
 TEST_F(GreedyQueueTest, OutdatedDependenciesAreDroppedAndCurrentOnesKept) {
