@@ -5,9 +5,10 @@
 namespace ispq {
 
 SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule) {
+  searches_.reserve(2);
   searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kReferenceUnsorted});
   if (rule == SeparationRule::kBothSearches) {
-    searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kSorted});
+    searches_.emplace_back(mesh, searches_.front(), SeparationSearchOptions{BlockBoxMode::kSorted});
   }
 }
 

@@ -101,9 +101,27 @@ void DropZeroTerms(std::vector<LinearTerm>& terms) {
 
 }  // namespace
 
+// Everything that depends on the mesh alone (section 6.2): built once and shared by the
+// searches of one mesh (core/separation_check.h runs two).
+struct SeparationSearchTables {
+  explicit SeparationSearchTables(const TMesh& mesh);
+
+  const BlockNodeSlots slots;
+  const SeparationStartConfigurations configs;
+  std::vector<SlotId> config_start_slot;
+  FlatLists<HalfarcId> sorted_outgoing;      // per node, ascending halfarc id
+  FlatLists<HalfarcInBlock> halfarc_blocks;  // per halfarc, radial order
+  FlatLists<FanCrossing> fan_crossings;      // per slot, in the block's halfpatch order
+  FlatLists<CriticalSide> critical_sides;    // per node, ascending incident halfpatch
+  FlatLists<SlotId> side_slots;              // per halfpatch: its owner's slots of its cycle
+  std::vector<Rotation> crossing_rotation;   // per halfpatch: Rot(g)
+};
+
 class SeparationSearch::Impl {
  public:
-  Impl(const TMesh& mesh, SeparationSearchOptions options);
+  Impl(const TMesh& mesh, std::shared_ptr<const SeparationSearchTables> tables,
+       SeparationSearchOptions options);
+  const std::shared_ptr<const SeparationSearchTables>& tables() const { return tables_; }
 
   std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
 
@@ -132,17 +150,17 @@ class SeparationSearch::Impl {
 
   const TMesh& mesh_;
   const SeparationSearchOptions options_;
-  const BlockNodeSlots slots_;
-  const SeparationStartConfigurations configs_;
-  std::vector<SlotId> config_start_slot_;
-
-  // Mesh tables (section 6.2).
-  FlatLists<HalfarcId> sorted_outgoing_;      // per node, ascending halfarc id
-  FlatLists<HalfarcInBlock> halfarc_blocks_;  // per halfarc, radial order
-  FlatLists<FanCrossing> fan_crossings_;      // per slot, in the block's halfpatch order
-  FlatLists<CriticalSide> critical_sides_;    // per node, ascending incident halfpatch
-  FlatLists<SlotId> side_slots_;              // per halfpatch: its owner's slots of its cycle
-  std::vector<Rotation> crossing_rotation_;   // per halfpatch: Rot(g)
+  // Mesh tables (section 6.2), shared; the references name their parts.
+  const std::shared_ptr<const SeparationSearchTables> tables_;
+  const BlockNodeSlots& slots_;
+  const SeparationStartConfigurations& configs_;
+  const std::vector<SlotId>& config_start_slot_;
+  const FlatLists<HalfarcId>& sorted_outgoing_;
+  const FlatLists<HalfarcInBlock>& halfarc_blocks_;
+  const FlatLists<FanCrossing>& fan_crossings_;
+  const FlatLists<CriticalSide>& critical_sides_;
+  const FlatLists<SlotId>& side_slots_;
+  const std::vector<Rotation>& crossing_rotation_;
 
   // Geometry of the current q (section 6.3).
   std::vector<IntVec3> positions_;  // per slot
@@ -170,55 +188,70 @@ class SeparationSearch::Impl {
   std::array<std::vector<ArcId>, kNumDirs> walked_arcs_;  // L[d] while building rows
 };
 
-SeparationSearch::Impl::Impl(const TMesh& mesh, SeparationSearchOptions options)
-    : mesh_(mesh), options_(options), slots_(mesh), configs_(mesh) {
-  for (int i = 0; i < configs_.size(); ++i) {
-    config_start_slot_.push_back(slots_.Find(configs_[i].start_block, configs_[i].start_node));
+SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh), configs(mesh) {
+  for (int i = 0; i < configs.size(); ++i) {
+    config_start_slot.push_back(slots.Find(configs[i].start_block, configs[i].start_node));
   }
   std::vector<HalfarcId> outgoing;
   for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
     outgoing.assign(mesh.outgoing_halfarcs(n).begin(), mesh.outgoing_halfarcs(n).end());
     std::sort(outgoing.begin(), outgoing.end());
-    sorted_outgoing_.Append(outgoing);
+    sorted_outgoing.Append(outgoing);
   }
   for (HalfarcId h = 0; h < mesh.num_halfarcs(); ++h) {
-    halfarc_blocks_.OpenList();
+    halfarc_blocks.OpenList();
     for (BlockId b : BlocksAroundHalfarc(mesh, h)) {
-      halfarc_blocks_.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots_.Find(b, mesh.head(h))});
+      halfarc_blocks.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots.Find(b, mesh.head(h))});
     }
   }
-  for (SlotId s = 0; s < slots_.num_slots(); ++s) {
-    const BlockId b = slots_.block_of(s);
-    const NodeId n = slots_.node_of(s);
+  for (SlotId s = 0; s < slots.num_slots(); ++s) {
+    const BlockId b = slots.block_of(s);
+    const NodeId n = slots.node_of(s);
     const std::span<const HalfpatchId> at_node = mesh.node_halfpatches(n);
-    fan_crossings_.OpenList();
+    fan_crossings.OpenList();
     for (HalfpatchId side : mesh.block_halfpatches(b)) {
       if (!std::binary_search(at_node.begin(), at_node.end(), side)) continue;
       const BlockId across = mesh.halfpatch_block(side ^ 1);
-      fan_crossings_.PushToLast({side, across == kNoId ? kNoId : slots_.Find(across, n)});
+      fan_crossings.PushToLast({side, across == kNoId ? kNoId : slots.Find(across, n)});
     }
   }
   for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
-    critical_sides_.OpenList();
+    critical_sides.OpenList();
     for (HalfpatchId g : mesh.node_halfpatches(n)) {
       const PatchId p = PatchOf(g);
       const HalfpatchId side = g ^ 1;  // the reference tests the side across each halfpatch
       const BlockId b = mesh.halfpatch_block(side);
       if (!mesh.patch_critical(p) || b == kNoId) continue;
-      critical_sides_.PushToLast(
-          {side, slots_.Find(b, n), AxisOf(mesh.patch_face_side(p, SideOf(side)))});
+      critical_sides.PushToLast(
+          {side, slots.Find(b, n), AxisOf(mesh.patch_face_side(p, SideOf(side)))});
     }
   }
   for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
-    crossing_rotation_.push_back(mesh.crossing_rotation(hp));
-    side_slots_.OpenList();
+    crossing_rotation.push_back(mesh.crossing_rotation(hp));
+    side_slots.OpenList();
     const BlockId b = mesh.halfpatch_block(hp);
     if (b == kNoId) continue;
     for (int i = 0; i < mesh.halfpatch_cycle_size(hp); ++i) {
-      side_slots_.PushToLast(slots_.Find(b, mesh.tail(mesh.HalfpatchCycleAt(hp, i))));
+      side_slots.PushToLast(slots.Find(b, mesh.tail(mesh.HalfpatchCycleAt(hp, i))));
     }
   }
+}
 
+SeparationSearch::Impl::Impl(const TMesh& mesh,
+                             std::shared_ptr<const SeparationSearchTables> tables,
+                             SeparationSearchOptions options)
+    : mesh_(mesh),
+      options_(options),
+      tables_(std::move(tables)),
+      slots_(tables_->slots),
+      configs_(tables_->configs),
+      config_start_slot_(tables_->config_start_slot),
+      sorted_outgoing_(tables_->sorted_outgoing),
+      halfarc_blocks_(tables_->halfarc_blocks),
+      fan_crossings_(tables_->fan_crossings),
+      critical_sides_(tables_->critical_sides),
+      side_slots_(tables_->side_slots),
+      crossing_rotation_(tables_->crossing_rotation) {
   positions_.resize(slots_.num_slots());
   side_boxes_.resize(mesh.num_halfpatches());
   seen_pre_.Resize(mesh.num_nodes());
@@ -607,7 +640,11 @@ void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirS
 }
 
 SeparationSearch::SeparationSearch(const TMesh& mesh, SeparationSearchOptions options)
-    : impl_(std::make_unique<Impl>(mesh, options)) {}
+    : impl_(std::make_unique<Impl>(mesh, std::make_shared<SeparationSearchTables>(mesh), options)) {
+}
+SeparationSearch::SeparationSearch(const TMesh& mesh, const SeparationSearch& tables_of,
+                                   SeparationSearchOptions options)
+    : impl_(std::make_unique<Impl>(mesh, tables_of.impl_->tables(), options)) {}
 SeparationSearch::~SeparationSearch() = default;
 SeparationSearch::SeparationSearch(SeparationSearch&&) noexcept = default;
 SeparationSearch& SeparationSearch::operator=(SeparationSearch&&) noexcept = default;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -229,6 +230,28 @@ TEST(SeparationSearchTest, Deterministic) {
     EXPECT_TRUE(SameViolations(search.FindViolations(q), first));
     SeparationSearch fresh(mesh);
     EXPECT_TRUE(SameViolations(fresh.FindViolations(q), first));
+  }
+}
+
+// A search sharing another's mesh tables (as the two searches of core/separation_check.h do)
+// answers exactly as one with its own, in either mode, also after the other one is gone.
+TEST(SeparationSearchTest, SharingMeshTablesChangesNoAnswer) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (size_t i = 0; i < files.size(); i += 5) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      SeparationSearch own(mesh, {.block_box = mode});
+      auto owner = std::make_unique<SeparationSearch>(mesh);
+      SeparationSearch sharing(mesh, *owner, {.block_box = mode});
+      owner.reset();
+      for (int seed = 1; seed <= 3; ++seed) {
+        const std::vector<int64_t> q = SparseConsistentQ(quantizations, seed);
+        EXPECT_TRUE(SameViolations(sharing.FindViolations(q), own.FindViolations(q)));
+      }
+    }
   }
 }
 
