@@ -107,29 +107,31 @@ void GreedyQueue::RecordDependencies(BundleId root, std::span<const BundleId> su
 }
 
 void GreedyQueue::DropOutdatedDependencies() {
-  // Keep the supports some root depends on, renumbered in order; rebuild the indexes over them.
+  // Keeps the supports some root depends on, renumbered in order and moved down in place (no
+  // second copy of the pool at the peak), and rebuilds the index over them.
   const int32_t count = static_cast<int32_t>(dependents_.size());
   std::vector<int32_t> renumber(count, -1);
-  std::vector<BundleId> pool;
-  std::vector<int64_t> begin{0};
-  std::vector<std::vector<BundleId>> dependents;
-  std::vector<int32_t> dependent_count;
-  for (auto& list : supports_of_bundle_) list.clear();
+  int32_t kept = 0;
+  int64_t write = 0;
   for (int32_t s = 0; s < count; ++s) {
     if (dependent_count_[s] <= 0) continue;
-    const int32_t id = static_cast<int32_t>(dependents.size());
-    renumber[s] = id;
-    for (int64_t k = begin_[s]; k < begin_[s + 1]; ++k) {
-      pool.push_back(pool_[k]);
-      supports_of_bundle_[pool_[k]].push_back(id);
+    renumber[s] = kept;
+    const int64_t read = begin_[s], size = begin_[s + 1] - read;
+    std::copy(pool_.begin() + read, pool_.begin() + read + size, pool_.begin() + write);
+    begin_[kept] = write;
+    write += size;
+    std::erase_if(dependents_[s], [&](BundleId root) { return support_of_root_[root] != s; });
+    if (kept != s) {  // a vector moved onto itself is left empty
+      dependents_[kept] = std::move(dependents_[s]);
+      dependent_count_[kept] = dependent_count_[s];
     }
-    begin.push_back(static_cast<int64_t>(pool.size()));
-    std::vector<BundleId>& roots = dependents.emplace_back();
-    for (BundleId root : dependents_[s]) {
-      if (support_of_root_[root] == s) roots.push_back(root);
-    }
-    dependent_count.push_back(dependent_count_[s]);
+    ++kept;
   }
+  pool_.resize(write);
+  begin_.resize(kept + 1);
+  begin_[kept] = write;
+  dependents_.resize(kept);
+  dependent_count_.resize(kept);
   for (int32_t& s : support_of_root_) {
     if (s >= 0) s = renumber[s];
   }
@@ -137,13 +139,14 @@ void GreedyQueue::DropOutdatedDependencies() {
     it->second = renumber[it->second];
     it = it->second < 0 ? shared_support_.erase(it) : std::next(it);
   }
-  pool_ = std::move(pool);
-  begin_ = std::move(begin);
-  dependents_ = std::move(dependents);
-  dependent_count_ = std::move(dependent_count);
+  for (auto& list : supports_of_bundle_) list.clear();
+  for (int32_t s = 0; s < kept; ++s) {
+    for (int64_t k = begin_[s]; k < begin_[s + 1]; ++k) supports_of_bundle_[pool_[k]].push_back(s);
+  }
   // The current supports alone can outnumber the bundles by far (a sheet crosses many bundles):
-  // the next drop waits until the pool doubled, so each rebuild is paid for by as many entries.
-  drop_threshold_ = std::max(drop_threshold_, 2 * static_cast<int64_t>(pool_.size()));
+  // the next drop waits until the pool grew by half, so each rebuild is paid for by half as
+  // many new entries, and at most a third of the pool is dead.
+  drop_threshold_ = std::max(drop_threshold_, static_cast<int64_t>(pool_.size()) * 5 / 4);
 }
 
 void GreedyQueue::RequeueUsers(BundleId c) {

@@ -341,7 +341,7 @@ bool SparseDualSimplex::Refactorize() {
   factorization_->maximumPivots(options_.max_pivots);
   std::vector<int32_t> permutation(m);
   const int size = static_cast<int>(elements.size());
-  const int area = 3 * m + 3 * size + 20000;
+  const int area = m + 2 * size + 8000;
   int status = -99;
   for (double area_factor = 1; status == -99 && area_factor <= 64; area_factor *= 2) {
     status = factorization_->factorize(m, m, size, area, 2 * area, rows.data(), columns.data(),
