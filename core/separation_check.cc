@@ -20,6 +20,15 @@ std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(std::span<
   return {};
 }
 
+int64_t SeparationCheck::FindFirstViolations(
+    std::span<const int64_t> q, const std::function<bool(SeparationViolation&)>& sink) {
+  for (SeparationSearch& search : searches_) {
+    const int64_t found = search.FindViolations(q, sink);
+    if (found > 0) return found;
+  }
+  return 0;
+}
+
 std::vector<SeparationViolation> SeparationCheck::FindAllViolations(std::span<const int64_t> q) {
   std::vector<SeparationViolation> all;
   for (SeparationSearch& search : searches_) {

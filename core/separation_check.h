@@ -13,6 +13,7 @@
 #define ISPQ_CORE_SEPARATION_CHECK_H_
 
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -34,6 +35,9 @@ class SeparationCheck {
   // The violations of the first search, in the order reference then sorted, that finds any;
   // empty iff q passes every search of the rule. q must be consistent.
   std::vector<SeparationViolation> FindFirstViolations(std::span<const int64_t> q);
+  // The same, handed to `sink` as they are found (core/separation_search.h); returns how many.
+  int64_t FindFirstViolations(std::span<const int64_t> q,
+                              const std::function<bool(SeparationViolation&)>& sink);
 
   // The violations of every search of the rule, reference search first.
   std::vector<SeparationViolation> FindAllViolations(std::span<const int64_t> q);

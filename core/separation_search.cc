@@ -123,7 +123,8 @@ class SeparationSearch::Impl {
        SeparationSearchOptions options);
   const std::shared_ptr<const SeparationSearchTables>& tables() const { return tables_; }
 
-  std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
+  int64_t FindViolations(std::span<const int64_t> q,
+                         const std::function<bool(SeparationViolation&)>& sink);
 
  private:
   // Per-call state that depends on q only.
@@ -304,8 +305,8 @@ IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) 
   return box;
 }
 
-std::vector<SeparationViolation> SeparationSearch::Impl::FindViolations(
-    std::span<const int64_t> q) {
+int64_t SeparationSearch::Impl::FindViolations(
+    std::span<const int64_t> q, const std::function<bool(SeparationViolation&)>& sink) {
   if (static_cast<int>(q.size()) != mesh_.num_arcs()) {
     std::fprintf(stderr, "SeparationSearch::FindViolations: q has %zu entries for %d arcs\n",
                  q.size(), mesh_.num_arcs());
@@ -314,12 +315,14 @@ std::vector<SeparationViolation> SeparationSearch::Impl::FindViolations(
   ComputeGeometry(q);
   negative_slack_ = 0;
   for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
-  std::vector<SeparationViolation> violations;
+  int64_t found = 0;
   SeparationViolation violation;
   for (int config = 0; config < configs_.size(); ++config) {
-    if (Search(config, q, violation)) violations.push_back(std::move(violation));
+    if (!Search(config, q, violation)) continue;
+    ++found;
+    if (!sink(violation)) break;
   }
-  return violations;
+  return found;
 }
 
 bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
@@ -650,7 +653,17 @@ SeparationSearch::SeparationSearch(SeparationSearch&&) noexcept = default;
 SeparationSearch& SeparationSearch::operator=(SeparationSearch&&) noexcept = default;
 
 std::vector<SeparationViolation> SeparationSearch::FindViolations(std::span<const int64_t> q) {
-  return impl_->FindViolations(q);
+  std::vector<SeparationViolation> violations;
+  impl_->FindViolations(q, [&](SeparationViolation& v) {
+    violations.push_back(std::move(v));
+    return true;
+  });
+  return violations;
+}
+
+int64_t SeparationSearch::FindViolations(std::span<const int64_t> q,
+                                         const std::function<bool(SeparationViolation&)>& sink) {
+  return impl_->FindViolations(q, sink);
 }
 
 }  // namespace ispq

@@ -16,6 +16,7 @@
 #define ISPQ_CORE_SEPARATION_SEARCH_H_
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -68,6 +69,10 @@ class SeparationSearch {
   // q.size() must be the mesh's number of arcs (a mismatch aborts: it is a caller bug). The
   // mesh must outlive this object.
   std::vector<SeparationViolation> FindViolations(std::span<const int64_t> q);
+  // The same violations handed to `sink` one by one as they are found; the search stops when
+  // the sink returns false. Returns how many were handed over.
+  int64_t FindViolations(std::span<const int64_t> q,
+                         const std::function<bool(SeparationViolation&)>& sink);
 
  private:
   class Impl;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <optional>
 #include <span>
 #include <utility>
@@ -76,11 +77,12 @@ class IntegerSheetPump {
   absl::StatusOr<bool> SeparateSubproblem(int32_t id);
   absl::StatusOr<bool> FailsafeSubproblem(int32_t id);
   // One lazy separation round on the current q: activates the rows of at most
-  // tuning_.max_new_rows_per_search violations and sets rows_left_over_ if more were found;
-  // returns the number of violations found.
+  // tuning_.max_new_rows_per_search violations per subproblem and sets rows_left_over_ if more
+  // were found; returns the number of violations found (0 iff q passed the search).
   int64_t SearchRound(std::vector<int32_t>* new_rows);
-  // The lazy separation search on the current q (timed as the search phase).
-  std::vector<SeparationViolation> FindViolations();
+  // The lazy separation search on the current q (timed as the search phase), handing the
+  // violations to `sink` until it returns false; returns how many it handed over.
+  int64_t FindViolations(const std::function<bool(const SeparationViolation&)>& sink);
   // Anytime: whether the q a separating update left is separating already, reported at once if
   // so. What the probe finds is not enforced (the search after the next descent does that), so
   // the run takes the same path with or without it; only the first valid q comes earlier.
@@ -360,26 +362,34 @@ absl::StatusOr<bool> IntegerSheetPump::FailsafeSubproblem(int32_t id) {
 }
 
 int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
-  const std::vector<SeparationViolation> violations = FindViolations();
+  // The rows join as the search finds them; once every subproblem has its rows for this round
+  // and one more was left over, the rest of the search could change nothing and is skipped.
+  SeparationRows::Added added;
+  const int64_t subproblems = subproblems_.count();
+  const int64_t found = FindViolations([&](const SeparationViolation& v) {
+    rows_.AddViolation(v, tuning_.max_new_rows_per_search, subproblems_, new_rows, &added);
+    return !added.Done(subproblems);
+  });
   ++stats_.separation_rounds;
   changed_since_search_ = false;
-  const SeparationRows::Added added =
-      rows_.AddViolations(violations, tuning_.max_new_rows_per_search, subproblems_, new_rows);
   stats_.separation_rows += added.activated;
   rows_left_over_ = added.dropped;
-  return static_cast<int64_t>(violations.size());
+  return found;
 }
 
-std::vector<SeparationViolation> IntegerSheetPump::FindViolations() {
+int64_t IntegerSheetPump::FindViolations(
+    const std::function<bool(const SeparationViolation&)>& sink) {
   ScopedCpuSeconds timer(&stats_.separation_search_seconds);
   quantization_.ArcValues(&arc_values_);
-  return separation_.FindFirstViolations(arc_values_);
+  return separation_.FindFirstViolations(arc_values_,
+                                         [&](SeparationViolation& v) { return sink(v); });
 }
 
 void IntegerSheetPump::ProbeSeparation() {
   if (rows_.store().num_violated_active() > 0) return;
   if (!rows_.simple_rows_active() && rows_.AnyHeldSimpleRowViolated()) return;
-  if (!FindViolations().empty()) return;
+  // Any violation answers the probe.
+  if (FindViolations([](const SeparationViolation&) { return false; }) > 0) return;
   search_clean_ = true;
   changed_since_search_ = false;
   SaveIfBestValid();

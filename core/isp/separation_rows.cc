@@ -104,44 +104,51 @@ SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationVi
                                                     SubproblemSet& subproblems,
                                                     std::vector<int32_t>* to_attach) {
   Added added;
-  std::vector<LinearTerm> default_terms, failsafe_terms;
-  // The cap holds per subproblem (of the row's first bundle): independent parts of a mesh each
-  // get their rows in the same round, or a mesh of many parts would need a round per row pair.
-  absl::flat_hash_map<int32_t, int64_t> activated_in;
   for (const SeparationViolation& v : violations) {
-    failsafe_terms = bundles_.ToBundleTerms(v.failsafe_row.terms);
-    default_terms = bundles_.ToBundleTerms(v.default_row.terms);
-    int64_t default_rhs = v.default_row.rhs;
-    if (failsafe_terms.empty()) continue;  // cannot happen for +1 rows with terms
-    int64_t& activated = activated_in[subproblems.IdOf(failsafe_terms.front().var)];
-    if (activated >= max_new_rows) {
-      added.dropped = true;
-      continue;
-    }
-    // A default row whose mixed terms cancel within a bundle can never hold: use B+ for it.
-    if (default_terms.empty()) {
-      default_terms = failsafe_terms;
-      default_rhs = v.failsafe_row.rhs;
-    }
-    int32_t r = rows_.Find(default_terms, default_rhs);
-    if (r == kNoId) {
-      r = Add(default_terms, default_rhs, RowOrigin::kStructural, true);
-      to_attach->push_back(r);
-      ++added.activated;
-      ++activated;
-    } else if (!rows_.active(r)) {
-      Activate(r, subproblems, to_attach);
-      ++added.activated;
-      ++activated;
-    }
-    is_default_[r] = 1;
-    if (failsafe_of_[r] == kNoId) {
-      int32_t f = rows_.Find(failsafe_terms, v.failsafe_row.rhs);
-      if (f == kNoId) f = Add(failsafe_terms, v.failsafe_row.rhs, RowOrigin::kFailsafe, false);
-      failsafe_of_[r] = f;
-    }
+    AddViolation(v, max_new_rows, subproblems, to_attach, &added);
   }
   return added;
+}
+
+void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_rows,
+                                  SubproblemSet& subproblems, std::vector<int32_t>* to_attach,
+                                  Added* added) {
+  const std::vector<LinearTerm> failsafe_terms = bundles_.ToBundleTerms(v.failsafe_row.terms);
+  std::vector<LinearTerm> default_terms = bundles_.ToBundleTerms(v.default_row.terms);
+  int64_t default_rhs = v.default_row.rhs;
+  if (failsafe_terms.empty()) return;  // cannot happen for +1 rows with terms
+  // The cap holds per subproblem (of the row's first bundle): independent parts of a mesh each
+  // get their rows in the same round, or a mesh of many parts would need a round per row pair.
+  int64_t& activated = added->activated_in[subproblems.IdOf(failsafe_terms.front().var)];
+  if (activated >= max_new_rows) {
+    added->dropped = true;
+    return;
+  }
+  // A default row whose mixed terms cancel within a bundle can never hold: use B+ for it.
+  if (default_terms.empty()) {
+    default_terms = failsafe_terms;
+    default_rhs = v.failsafe_row.rhs;
+  }
+  int32_t r = rows_.Find(default_terms, default_rhs);
+  bool activates = false;
+  if (r == kNoId) {
+    r = Add(default_terms, default_rhs, RowOrigin::kStructural, true);
+    to_attach->push_back(r);
+    activates = true;
+  } else if (!rows_.active(r)) {
+    Activate(r, subproblems, to_attach);
+    activates = true;
+  }
+  if (activates) {
+    ++added->activated;
+    if (++activated == max_new_rows) ++added->full_subproblems;
+  }
+  is_default_[r] = 1;
+  if (failsafe_of_[r] == kNoId) {
+    int32_t f = rows_.Find(failsafe_terms, v.failsafe_row.rhs);
+    if (f == kNoId) f = Add(failsafe_terms, v.failsafe_row.rhs, RowOrigin::kFailsafe, false);
+    failsafe_of_[r] = f;
+  }
 }
 
 std::vector<SeparationRows::Swap> SeparationRows::UseFailsafeForms(int32_t subproblem_id,

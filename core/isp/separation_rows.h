@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include "absl/container/flat_hash_map.h"
 #include "core/arc_bundles.h"
 #include "core/flat_lists.h"
 #include "core/isp/bundle_quantization.h"
@@ -48,15 +49,24 @@ class SeparationRows {
   // Activates every simple row (all or nothing); returns the rows to attach.
   std::vector<int32_t> ActivateSimpleRows(SubproblemSet& subproblems);
 
-  // What AddViolations did with the violations of one search.
+  // The rows of one search round so far.
   struct Added {
     int64_t activated = 0;  // rows that became active
     bool dropped = false;   // violations were left over once max_new_rows rows were active
+    // Rows activated per subproblem, and how many subproblems reached max_new_rows.
+    absl::flat_hash_map<int32_t, int64_t> activated_in;
+    int64_t full_subproblems = 0;
+    // Whether every one of `count` subproblems is full and a violation was already dropped: no
+    // later violation of the round can change anything, so the search may stop.
+    bool Done(int64_t count) const { return dropped && full_subproblems == count; }
   };
-  // Adds the rows of a search round in their order, each as a default row with its failsafe
-  // twin, until `max_new_rows` rows became active in a subproblem; that subproblem's later
-  // violations are dropped (a later search finds them again if they are still violated). Appends
-  // the rows to attach to `to_attach`.
+  // Adds the rows of a search round in their order, one violation per call, each as a default row
+  // with its failsafe twin, until `max_new_rows` rows became active in a subproblem; that
+  // subproblem's later violations are dropped (a later search finds them again if they are still
+  // violated). Appends the rows to attach to `to_attach`.
+  void AddViolation(const SeparationViolation& v, int64_t max_new_rows, SubproblemSet& subproblems,
+                    std::vector<int32_t>* to_attach, Added* added);
+  // AddViolation for every violation of a round.
   Added AddViolations(std::span<const SeparationViolation> violations, int64_t max_new_rows,
                       SubproblemSet& subproblems, std::vector<int32_t>* to_attach);
 
