@@ -53,6 +53,7 @@ void SparseDualSimplex::SetObjectiveCoefficient(int column, double value) {
   const double delta = value - cost_[column];
   if (delta == 0) return;
   cost_[column] = value;
+  ++costs_changed_;
   if (!factorization_valid_) return;  // the next refactorization recomputes every reduced cost
   if (status_[column] == VarStatus::kBasic) {
     // y changes by B^-T (delta e_position): deferred to one BTRAN for all such edits.
@@ -700,6 +701,12 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
 }
 
 SparseDualSimplex::Status SparseDualSimplex::Solve() {
+  // A warm basis is worth keeping when a few costs changed. When most did (a new objective, such
+  // as the sheet LP's switch between weight schemes), repairing its dual feasibility column by
+  // column took thousands of pivots (1.8 s for one solve at 100k arcs); the slack basis is dual
+  // feasible for any non-negative costs.
+  if (costs_changed_ > std::max<int64_t>(100, num_columns_ / 10)) ResetToSlackBasis();
+  costs_changed_ = 0;
   int64_t iterations = 0;
   int trouble = 0;
   bool reset = false;

@@ -211,6 +211,7 @@ class SparseDualSimplex {
   std::vector<double> alpha_;
   std::vector<int32_t> alpha_touched_;
 
+  int64_t costs_changed_ = 0;  // since the last solve
   int64_t iterations_ = 0;
   int64_t refactorizations_ = 0;
   int64_t slack_resets_ = 0;

@@ -122,11 +122,11 @@ struct Scenario {
 
 class SparseDualSimplexVsClpTest : public ::testing::TestWithParam<Scenario> {};
 
-// 300 rounds of quantizer-like edits: weights of a few bundles (an applied sheet), the root
-// moved (bounds of two columns), sometimes a non-deflating mode, a blocked or pinned bundle,
-// changed row slacks and appended rows. After each round the warm sparse simplex must agree with
-// CLP from scratch on feasibility and on the optimal objective, and its solution must be
-// feasible.
+// 300 rounds of quantizer-like edits: weights of a few bundles (an applied sheet) or of all (a
+// new weight scheme), the root moved (bounds of two columns), sometimes a non-deflating mode, a
+// blocked or pinned bundle, changed row slacks and appended rows. After each round the warm sparse
+// simplex must agree with CLP from scratch on feasibility and on the optimal objective, and its
+// solution must be feasible.
 TEST_P(SparseDualSimplexVsClpTest, AgreesWithFreshClpOnEditSequences) {
   const int kBundles = GetParam().bundles;
   constexpr double kArcs = 1e4;  // the |A| of the tiered weights
@@ -170,6 +170,9 @@ TEST_P(SparseDualSimplexVsClpTest, AgreesWithFreshClpOnEditSequences) {
       for (int j = 0; j < 2 * kBundles; ++j) lp.SetBounds(j, 0, kLpInfinity);
     }
     for (int k = pick(6); k > 0; --k) lp.SetCost(pick(2 * kBundles), weight());
+    if (round % 37 == 36) {  // a new objective: every weight changes (the slack basis restarts)
+      for (int j = 0; j < 2 * kBundles; ++j) lp.SetCost(j, weight());
+    }
     root = pick(kBundles);
     const bool inflate = pick(2) == 0;
     lp.SetBounds(2 * root + (inflate ? 0 : 1), 1, kLpInfinity);
