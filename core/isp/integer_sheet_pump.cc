@@ -74,6 +74,8 @@ class IntegerSheetPump {
   // blocks the bundles it made worse from moving that way and solves again.
   absl::StatusOr<bool> SteerAroundWorsenedBundles(BundleId root, SheetRequest& request, bool found);
   void Apply(const SheetStep& step);
+  // The arcs a step moves, each counted once per unit.
+  double MovedArcs(const SheetStep& step) const;
   GreedyQueue& QueueOf(bool thorough) { return thorough ? thorough_queue_ : queue_; }
   // Rows joined the active rows: the roots whose last sheet crossed them are pumped again.
   void RequeueUsersOfRows(std::span<const int32_t> new_rows);
@@ -239,7 +241,8 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     QueueOf(thorough).RecordDependencies(
         root, found ? std::span<const BundleId>(step_.sheet.bundles) : std::span<const BundleId>());
     if (covering && found && step_.gain >= -Tolerance()) coverage_.Cover(step_.sheet);
-    if (thorough) {
+    if (thorough &&
+        (!covering || !found || step_.gain <= tuning_.repair_max_loss_per_arc * MovedArcs(step_))) {
       ISPQ_ASSIGN_OR_RETURN(found, SteerAroundWorsenedBundles(root, request, found));
       if (clock_.stopped()) return false;
     }
@@ -269,6 +272,15 @@ absl::StatusOr<bool> IntegerSheetPump::SteerAroundWorsenedBundles(BundleId root,
     if (clock_.stopped()) return false;
   }
   return found;
+}
+
+double IntegerSheetPump::MovedArcs(const SheetStep& step) const {
+  double arcs = 0;
+  for (size_t i = 0; i < step.sheet.bundles.size(); ++i) {
+    arcs += static_cast<double>(quantization_.arc_count(step.sheet.bundles[i])) *
+            std::abs(static_cast<double>(step.t * step.sheet.deltas[i]));
+  }
+  return arcs;
 }
 
 void IntegerSheetPump::RequeueUsersOfRows(std::span<const int32_t> new_rows) {

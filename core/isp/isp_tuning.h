@@ -21,6 +21,17 @@ struct IspTuning {
   // and third attempt changed no q on the shared instances nor on the 10k-arc scaling meshes and
   // cost 14% more LP solves on the shared set, 15-20% on the large meshes.
   int repair_attempts = 1;
+  // On subproblems of at least cover_min_bundles bundles, a non-improving sheet is repaired only
+  // if it loses at most this much objective per arc it moves (the sheet's gain over the arcs of
+  // its bundles times their moves). There repairs were a third of the thorough pass's solves,
+  // and the most expensive (blocking the worsened bundles makes long detours), yet only 11 of
+  // 4,100 improved anything in the scaling runs (1k-100k arcs, three families, levels 5/25/100),
+  // every one of them from a sheet losing at most 0.17 per moved arc: a sheet far from improving
+  // is not turned around by steering. With 0.25 all 45 scaling runs end with the objective they
+  // end with when every sheet is repaired, in 60-75% of the CPU at 10k-100k arcs and levels 5/25
+  // (level 100: 90-100%); with no repairs on large subproblems one run ended 4.2% worse. Smaller
+  // subproblems (every shared instance) repair every sheet.
+  double repair_max_loss_per_arc = 0.25;
   // How a rational LP vertex becomes an integer sheet. false: multiply by the least common
   // denominator (the paper, section 4.3.1). true: first dive toward an integer vertex by fixing
   // the fractional bundle closest to its next integer (away from zero) and re-solving, as the

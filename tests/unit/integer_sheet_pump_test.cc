@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -124,6 +125,33 @@ TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
   EXPECT_GT(covered->stats.covered_checks, 0);
   EXPECT_LT(covered->stats.lp_solves, exact->stats.lp_solves);
   for (const IspOutcome* outcome : {&*exact, &*covered}) {
+    EXPECT_TRUE(outcome->separating);
+    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q);
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE(report->valid()) << report->Describe();
+  }
+}
+
+// The same part with every subproblem counted as large: repairing only the sheets that lose
+// little per moved arc (here: none) solves less than repairing all, and ends valid.
+TEST(IntegerSheetPumpTest, RepairsOnLargeSubproblemsSkipSheetsFarFromImproving) {
+  const absl::StatusOr<testing::GridTMesh> grid =
+      bench::BuildLargeTMesh(bench::LargeFamily::kSingleSubproblem, 1000, 3);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  IspTuning every, none;
+  every.cover_min_bundles = none.cover_min_bundles = 0;
+  every.repair_max_loss_per_arc = std::numeric_limits<double>::infinity();
+  none.repair_max_loss_per_arc = 0;
+  const absl::StatusOr<IspOutcome> repaired =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), every, nullptr, nullptr);
+  const absl::StatusOr<IspOutcome> skipped =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), none, nullptr, nullptr);
+  ASSERT_TRUE(repaired.ok() && skipped.ok());
+  EXPECT_LT(skipped->stats.lp_solves, repaired->stats.lp_solves);
+  for (const IspOutcome* outcome : {&*repaired, &*skipped}) {
     EXPECT_TRUE(outcome->separating);
     const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q);
     ASSERT_TRUE(report.ok());
