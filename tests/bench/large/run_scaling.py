@@ -21,7 +21,11 @@ Run by hand (it takes long; not part of the test command), e.g.
 Runs past --time-limit CPU seconds are stopped and recorded with termination time_limit.
 --report-only rewrites scaling.md and scaling.png from OUT/scaling.tsv, e.g. after appending the
 rows of long runs made one at a time (ispq_scaling_run prints the same columns without the first
-two, family and target_arcs).
+two, family and target_arcs). --baseline OLD/scaling.tsv adds the CPU time and objective of every
+run against the same family, size and level of an earlier run (say, of the commit before a change).
+
+Peak memory: the solve's (VmHWM from the end of loading, which returns the loader's memory first)
+and the loader's (parsing the .pb file into protobuf messages) are reported apart.
 """
 
 import argparse
@@ -75,22 +79,31 @@ def fit_exponent(points):
     return sxy / sxx if sxx > 0 else float("nan")
 
 
-def write_markdown(rows, path, fit_range):
+def bytes_per_arc(row, key):
+    """Bytes per arc of a MiB column, or None for rows written before the column existed."""
+    return 1024 * 1024 * float(row[key]) / int(row["arcs"]) if row.get(key) else None
+
+
+def write_markdown(rows, path, fit_range, baseline=None):
     lo, hi = fit_range
     with open(path, "w") as out:
         out.write("| family | arcs | level | CPU s | greedy | search | separating | LP solves "
-                  "| first separating q (CPU s, share) | objective | valid | peak RSS B/arc |\n")
-        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                  "| first separating q (CPU s, share) | objective | valid "
+                  "| solve peak RSS B/arc | load peak RSS B/arc |\n")
+        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             cpu = float(r["cpu_s"])
             first = float(r["first_separating_cpu_s"])
             share = f"{first:.2f} ({100 * first / cpu:.0f}%)" if first >= 0 and cpu > 0 else "-"
-            rss_per_arc = 1024 * 1024 * float(r["peak_rss_mib"]) / int(r["arcs"])
+            load = bytes_per_arc(r, "load_peak_rss_mib")
             out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {cpu:.2f} | "
                       f"{float(r['greedy_cpu_s']):.2f} | {float(r['search_cpu_s']):.2f} | "
                       f"{float(r['separating_cpu_s']):.2f} | {r['lp_solves']} | {share} | "
                       f"{float(r['objective']):.1f} | {r['valid']} {r['termination']} | "
-                      f"{rss_per_arc:.0f} |\n")
+                      f"{bytes_per_arc(r, 'peak_rss_mib'):.0f} | "
+                      f"{'-' if load is None else f'{load:.0f}'} |\n")
+        if baseline:
+            write_comparison(rows, baseline, out)
         out.write(f"\nGrowth exponents (CPU time ~ arcs^k, fitted over {lo}..{hi} arcs):\n\n")
         out.write("| family | level | " + " | ".join(name for _, name in PHASES) + " |\n")
         out.write("|---|---|" + "---|" * len(PHASES) + "\n")
@@ -111,6 +124,29 @@ def write_markdown(rows, path, fit_range):
                       r["termination"] == "converged"]
                 if ok:
                     out.write(f"- {family}, level {level}: {max(ok)} arcs\n")
+
+
+def write_comparison(rows, baseline, out):
+    """CPU and objective of every run against the same family, size and level in `baseline`."""
+    before = {(r["family"], r["arcs"], r["level"]): r for r in baseline}
+    out.write("\nAgainst the baseline (same meshes; objective ratio after / before):\n\n")
+    out.write("| family | arcs | level | CPU s before | CPU s after | objective ratio |\n")
+    out.write("|---|---|---|---|---|---|\n")
+    ratios = []
+    for r in rows:
+        b = before.get((r["family"], r["arcs"], r["level"]))
+        if b is None:
+            continue
+        ratio = float(r["objective"]) / float(b["objective"])
+        ratios.append(ratio)
+        out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {float(b['cpu_s']):.2f} | "
+                  f"{float(r['cpu_s']):.2f} | {ratio:.5f} |\n")
+    if ratios:
+        worse = sum(x > 1 + 1e-9 for x in ratios)
+        better = sum(x < 1 - 1e-9 for x in ratios)
+        out.write(f"\n{len(ratios)} runs compared: mean objective ratio "
+                  f"{sum(ratios) / len(ratios):.5f}, {worse} worse, {better} better, "
+                  f"worst {max(ratios):.5f}\n")
 
 
 def plot(rows, path):
@@ -150,10 +186,15 @@ def plot(rows, path):
     ax.set_title("First separating q and final q, CPU s (level 100)")
     ax = axes[1][1]
     for family in FAMILIES:
-        sel = sorted((int(r["arcs"]), 1024 * 1024 * float(r["peak_rss_mib"]) / int(r["arcs"]))
+        sel = sorted((int(r["arcs"]), bytes_per_arc(r, "peak_rss_mib"))
                      for r in rows if r["family"] == family and int(r["level"]) == 100)
         if sel:
-            ax.plot(*zip(*sel), marker="o", color=colors[family], label=family)
+            ax.plot(*zip(*sel), marker="o", color=colors[family], label=f"{family}: solve")
+        sel = sorted((int(r["arcs"]), bytes_per_arc(r, "load_peak_rss_mib"))
+                     for r in rows if r["family"] == family and int(r["level"]) == 100 and
+                     r.get("load_peak_rss_mib"))
+        if sel:
+            ax.plot(*zip(*sel), ":", marker="x", color=colors[family], label=f"{family}: load")
     ax.set_title("Peak RSS per arc, bytes (level 100)")
     for row in axes:
         for ax in row:
@@ -178,12 +219,14 @@ def main():
     parser.add_argument("--time-limit", type=float, default=900)
     parser.add_argument("--fit-range", default="1000,100000")
     parser.add_argument("--report-only", action="store_true")
+    parser.add_argument("--baseline", help="scaling.tsv of an earlier run to compare against")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     tsv_path = os.path.join(args.out, "scaling.tsv")
     rows = read_rows(tsv_path) if args.report_only else run_all(args, tsv_path)
     fit_range = tuple(map(int, args.fit_range.split(",")))
-    write_markdown(rows, os.path.join(args.out, "scaling.md"), fit_range)
+    baseline = read_rows(args.baseline) if args.baseline else None
+    write_markdown(rows, os.path.join(args.out, "scaling.md"), fit_range, baseline)
     plot(rows, os.path.join(args.out, "scaling.png"))
     return 0 if all(r["valid"] == "1" for r in rows) else 1
 
