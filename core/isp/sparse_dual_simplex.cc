@@ -15,6 +15,9 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Entries of FTRAN/BTRAN results below this are cancellation noise (CoinIndexedVector keeps
 // cancelled entries as 1e-100).
 constexpr double kNoise = 1e-12;
+// Candidates found feasible by their refreshed value, since the last pivot, before all the kept
+// values are recomputed at once (a recomputation costs about as much as a few pivot rows).
+constexpr int kDropsBeforeRecompute = 8;
 // The pivot element seen in the pivot row and in the FTRAN'd entering column must agree to this
 // relative accuracy, else the factorization has drifted and is rebuilt.
 constexpr double kPivotAgreement = 1e-7;
@@ -711,6 +714,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve() {
   int trouble = 0;
   bool reset = false;
   bool values_exact = false;
+  int drops_since_pivot = 0;
   while (true) {
     if (!factorization_valid_ || factorization_->pivots() >= options_.max_pivots) {
       dual_check_.clear();
@@ -741,10 +745,23 @@ SparseDualSimplex::Status SparseDualSimplex::Solve() {
       }
       return LeftArtificialBounds() ? Status::kOptimal : Status::kFailed;
     }
-    values_exact = false;
     if (++iterations > options_.max_iterations) return Status::kFailed;
     ComputePivotRow(position);
-    if (!RefreshLeavingValue(position)) continue;  // it was only rounding
+    if (!RefreshLeavingValue(position)) {
+      // It was only rounding. A refreshed value is as exact as a recomputed one, so the flag
+      // stands: were it cleared here, the recomputation (FTRAN) and the refresh (BTRAN), which
+      // can disagree by more than the tolerance on the same value, would take turns until the
+      // iteration limit (200,000 dropped candidates and no pivot in one solve at 200k arcs).
+      // Many drops since the last pivot mean the kept values drifted: recomputing them all at
+      // once is cheaper than one pivot row per drifted value.
+      if (!values_exact && ++drops_since_pivot >= kDropsBeforeRecompute) {
+        RecomputeBasicValues();
+        values_exact = true;
+      }
+      continue;
+    }
+    values_exact = false;
+    drops_since_pivot = 0;
     const int leaving = basic_variable_[position];
     const int direction = value_[leaving] < lower_[leaving] ? 1 : -1;
     double dual_step = 0;
