@@ -47,9 +47,7 @@ int RunSubmit(const std::string& mesh_path, const v1::QuantizationOptions& quant
               const RemoteCommandOptions& options) {
   QuantizeInputOrExit loaded = LoadQuantizeInput(mesh_path, quantization);
   if (!loaded.input.has_value()) return loaded.exit_code;
-  v1::QuantizeRequest request;
-  *request.mutable_mesh() = std::move(loaded.input->proto);
-  *request.mutable_options() = quantization;
+  const v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, quantization);
   absl::StatusOr<client::QuantizerClient> client = Connect(options);
   if (!client.ok()) return ReportError(options.connection.address, client.status());
   const absl::StatusOr<v1::Job> job = client->SubmitJob(request);

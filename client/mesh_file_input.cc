@@ -9,9 +9,9 @@
 namespace ispq::cli {
 
 absl::StatusOr<MeshFile> LoadMeshFile(const std::string& path) {
-  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(path);
+  absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(path);
   if (!proto.ok()) return proto.status();  // its message names the file already
-  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
+  absl::StatusOr<TMesh> mesh = TMeshFromProto(proto->get());
   if (!mesh.ok()) {
     return absl::Status(mesh.status().code(), absl::StrCat(path, ": ", mesh.status().message()));
   }

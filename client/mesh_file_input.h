@@ -7,14 +7,14 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "core/proto/tmesh_file.h"
 #include "core/tmesh.h"
-#include "ispq/v1/tmesh.pb.h"
 
 namespace ispq::cli {
 
 struct MeshFile {
-  v1::TMesh proto;  // as read, for sending to a server
-  TMesh mesh;       // validated
+  TMeshMessage proto;  // as read, for sending to a server
+  TMesh mesh;          // validated
 };
 
 // The error names the file and the offending element; the caller prints it and exits with

@@ -8,16 +8,17 @@
 #include <optional>
 #include <string>
 
+#include "core/proto/tmesh_file.h"
 #include "core/quantizer.h"
 #include "core/tmesh.h"
 #include "ispq/v1/quantization.pb.h"
-#include "ispq/v1/tmesh.pb.h"
+#include "ispq/v1/service.pb.h"
 
 namespace ispq::cli {
 
 struct QuantizeInput {
-  v1::TMesh proto;  // as read, for sending to a server
-  TMesh mesh;       // validated
+  TMeshMessage proto;  // as read, for sending to a server
+  TMesh mesh;          // validated
   QuantizeOptions options;
 };
 
@@ -28,6 +29,11 @@ struct QuantizeInputOrExit {
 
 QuantizeInputOrExit LoadQuantizeInput(const std::string& mesh_path,
                                       const v1::QuantizationOptions& quantization);
+
+// The request for a server: `input`'s mesh moves into it without a copy (the request is made on
+// the mesh's arena, and lives as long as `input`).
+const v1::QuantizeRequest& MakeQuantizeRequest(QuantizeInput& input,
+                                               const v1::QuantizationOptions& quantization);
 
 }  // namespace ispq::cli
 

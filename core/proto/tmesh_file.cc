@@ -8,35 +8,51 @@
 #include "google/protobuf/util/json_util.h"
 
 namespace ispq {
+namespace {
 
-absl::StatusOr<v1::TMesh> ParseTMeshJson(std::string_view json) {
-  v1::TMesh mesh;
+absl::Status ParseJsonInto(std::string_view json, v1::TMesh* mesh) {
   google::protobuf::util::JsonParseOptions options;
   options.ignore_unknown_fields = false;  // a misspelled key is an error, not a silent default
   const auto status = google::protobuf::util::JsonStringToMessage(
-      google::protobuf::StringPiece(json.data(), json.size()), &mesh, options);
+      google::protobuf::StringPiece(json.data(), json.size()), mesh, options);
   if (!status.ok()) {
     return absl::InvalidArgumentError(
         absl::StrCat("not a T-mesh JSON document: ", std::string(status.message())));
   }
+  return absl::OkStatus();
+}
+
+absl::Status ParseBinaryInto(std::string_view bytes, v1::TMesh* mesh) {
+  if (!mesh->ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) {
+    return absl::InvalidArgumentError("not a binary ispq.v1.TMesh message");
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<v1::TMesh> ParseTMeshJson(std::string_view json) {
+  v1::TMesh mesh;
+  ISPQ_RETURN_IF_ERROR(ParseJsonInto(json, &mesh));
   return mesh;
 }
 
 absl::StatusOr<v1::TMesh> ParseTMeshBinary(std::string_view bytes) {
   v1::TMesh mesh;
-  if (!mesh.ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) {
-    return absl::InvalidArgumentError("not a binary ispq.v1.TMesh message");
-  }
+  ISPQ_RETURN_IF_ERROR(ParseBinaryInto(bytes, &mesh));
   return mesh;
 }
 
-absl::StatusOr<v1::TMesh> ReadTMeshFile(const std::string& path) {
+TMeshMessage::TMeshMessage()
+    : arena_(std::make_unique<google::protobuf::Arena>()), message_(CreateOnArena<v1::TMesh>()) {}
+
+absl::StatusOr<TMeshMessage> ReadTMeshFile(const std::string& path) {
   ISPQ_ASSIGN_OR_RETURN(const std::string contents, ReadFileToString(path, kMaxTMeshFileBytes));
   const bool binary = absl::EndsWith(path, ".pb") || absl::EndsWith(path, ".binpb");
-  absl::StatusOr<v1::TMesh> mesh = binary ? ParseTMeshBinary(contents) : ParseTMeshJson(contents);
-  if (!mesh.ok()) {
-    return absl::Status(mesh.status().code(), absl::StrCat(path, ": ", mesh.status().message()));
-  }
+  TMeshMessage mesh;
+  const absl::Status parsed = binary ? ParseBinaryInto(contents, mesh.mutable_message())
+                                     : ParseJsonInto(contents, mesh.mutable_message());
+  if (!parsed.ok()) return absl::Status(parsed.code(), absl::StrCat(path, ": ", parsed.message()));
   return mesh;
 }
 

@@ -58,12 +58,12 @@ class IterateSampler : public ProgressObserver {
 };
 
 int Run() {
-  absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(absl::GetFlag(FLAGS_tmesh));
+  absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(absl::GetFlag(FLAGS_tmesh));
   if (!proto.ok()) {
     std::cerr << proto.status() << "\n";
     return 2;
   }
-  absl::StatusOr<TMesh> mesh = TMeshFromProto(*proto);
+  absl::StatusOr<TMesh> mesh = TMeshFromProto(proto->get());
   if (!mesh.ok()) {
     std::cerr << mesh.status() << "\n";
     return 2;

@@ -49,12 +49,12 @@ const char* KindName(ispq::SeparationTargetKind kind) {
 
 int main(int argc, char** argv) {
   absl::ParseCommandLine(argc, argv);
-  absl::StatusOr<ispq::v1::TMesh> proto = ispq::ReadTMeshFile(absl::GetFlag(FLAGS_tmesh));
+  absl::StatusOr<ispq::TMeshMessage> proto = ispq::ReadTMeshFile(absl::GetFlag(FLAGS_tmesh));
   if (!proto.ok()) {
     std::cerr << proto.status() << "\n";
     return 2;
   }
-  absl::StatusOr<ispq::TMesh> mesh = ispq::TMeshFromProto(*proto);
+  absl::StatusOr<ispq::TMesh> mesh = ispq::TMeshFromProto(proto->get());
   if (!mesh.ok()) {
     std::cerr << mesh.status() << "\n";
     return 2;

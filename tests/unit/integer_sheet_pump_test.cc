@@ -201,10 +201,10 @@ TEST(IntegerSheetPumpTest, FewRowsPerSearchSkipRowsThatOtherSheetsMadeUnnecessar
 // (with one cap for the whole mesh, 160 copies of s07c_notch took 884 rounds instead of 6).
 TEST(IntegerSheetPumpTest, DisjointPartsGetTheirRowsInTheSameRound) {
   const std::string path = SharedTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json";
-  const absl::StatusOr<v1::TMesh> proto = ReadTMeshFile(path);
+  const absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(path);
   ASSERT_TRUE(proto.ok()) << proto.status();
-  const TMesh one = testing::TMeshOrDie(*proto);
-  const TMesh eight = testing::TMeshOrDie(testing::DisjointCopies(*proto, 8));
+  const TMesh one = testing::TMeshOrDie(proto->get());
+  const TMesh eight = testing::TMeshOrDie(testing::DisjointCopies(proto->get(), 8));
   const double scaling = one.levels()[6].scaling;
   int64_t one_rounds = 0, eight_rounds = 0;
   const double one_objective = ValidObjective(one, scaling, IspTuning{}, &one_rounds);

@@ -4,6 +4,8 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <set>
@@ -448,8 +450,29 @@ TEST(TMeshJsonTest, BinaryAndJsonAgree) {
   EXPECT_FALSE(ParseTMeshBinary("\xff\xff\xff garbage").ok());
 }
 
+TEST(TMeshFileTest, ReadsBothFormatsAndNamesTheFileItCannotParse) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ispq-tmesh-file";
+  std::filesystem::create_directories(dir);
+  const v1::TMesh& mesh = Tetrahedron();
+  std::string json;
+  ASSERT_TRUE(google::protobuf::util::MessageToJsonString(mesh, &json).ok());
+  std::ofstream(dir / "m.tmesh.json") << json;
+  std::ofstream(dir / "m.tmesh.pb", std::ios::binary) << mesh.SerializeAsString();
+  std::ofstream(dir / "bad.tmesh.pb", std::ios::binary) << "\xff\xff\xff garbage";
+  for (const char* name : {"m.tmesh.json", "m.tmesh.pb"}) {
+    const absl::StatusOr<TMeshMessage> read = ReadTMeshFile((dir / name).string());
+    ASSERT_TRUE(read.ok()) << name << ": " << read.status();
+    EXPECT_EQ(read->get().SerializeAsString(), mesh.SerializeAsString()) << name;
+  }
+  const std::string bad = (dir / "bad.tmesh.pb").string();
+  const absl::StatusOr<TMeshMessage> garbage = ReadTMeshFile(bad);
+  EXPECT_EQ(garbage.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(garbage.status().message()), HasSubstr(bad));
+  std::filesystem::remove_all(dir);
+}
+
 TEST(TMeshFileTest, MissingFileIsNotFound) {
-  const absl::StatusOr<v1::TMesh> mesh = ReadTMeshFile("/nonexistent/x.tmesh.json");
+  const absl::StatusOr<TMeshMessage> mesh = ReadTMeshFile("/nonexistent/x.tmesh.json");
   EXPECT_EQ(mesh.status().code(), absl::StatusCode::kNotFound);
   EXPECT_THAT(std::string(mesh.status().message()), HasSubstr("/nonexistent/x.tmesh.json"));
 }
