@@ -3,7 +3,8 @@
 //
 // A solve the sparse simplex cannot finish (its iteration limit, repeated numerical trouble) is
 // handed to CLP on a copy of the model built for that solve, so every solve still gets an
-// answer; such fallbacks are counted.
+// answer. So is a solve after a new objective that needs many pivots from the slack basis, where
+// CLP is faster (SparseDualSimplexOptions::new_objective_min_pivots).
 #ifndef ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 #define ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 

@@ -703,12 +703,18 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
   return true;
 }
 
-SparseDualSimplex::Status SparseDualSimplex::Solve() {
+bool SparseDualSimplex::most_costs_changed() const {
+  return costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
+}
+
+SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
+  if (max_iterations <= 0 || max_iterations > options_.max_iterations) {
+    max_iterations = options_.max_iterations;
+  }
   // A warm basis is worth keeping when a few costs changed. When most did (a new objective, such
   // as the sheet LP's switch between weight schemes), repairing its dual feasibility column by
-  // column took thousands of pivots (1.8 s for one solve at 100k arcs); the slack basis is dual
-  // feasible for any non-negative costs.
-  if (costs_changed_ > std::max<int64_t>(100, num_columns_ / 10)) ResetToSlackBasis();
+  // column took thousands of pivots (1.8 s for one solve at 100k arcs).
+  if (most_costs_changed()) ResetToSlackBasis();
   costs_changed_ = 0;
   int64_t iterations = 0;
   int trouble = 0;
@@ -745,7 +751,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve() {
       }
       return LeftArtificialBounds() ? Status::kOptimal : Status::kFailed;
     }
-    if (++iterations > options_.max_iterations) return Status::kFailed;
+    if (++iterations > max_iterations) return Status::kFailed;
     ComputePivotRow(position);
     if (!RefreshLeavingValue(position)) {
       // It was only rounding. A refreshed value is as exact as a recomputed one, so the flag

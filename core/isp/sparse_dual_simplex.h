@@ -62,6 +62,11 @@ struct SparseDualSimplexOptions {
   double artificial_bound = 1e3;
   // Pivots of one Solve() before it gives up with kFailed.
   int64_t max_iterations = 200000;
+  // A solve after a new objective (most_costs_changed()) that needs more pivots than
+  // max(new_objective_min_pivots, new_objective_pivots_per_row * rows) is handed to CLP by the
+  // sheet LP on this simplex (dual_simplex_sheet_lp.h).
+  int64_t new_objective_min_pivots = 1000;
+  double new_objective_pivots_per_row = 0.1;
 };
 
 class SparseDualSimplex {
@@ -83,7 +88,12 @@ class SparseDualSimplex {
   // Appends rows; they get the ids num_rows() .. num_rows() + batch.size() - 1.
   void AddRows(const LpRowBatch& batch);
 
-  Status Solve();
+  // kFailed after max_iterations pivots (options' limit when 0 or larger).
+  Status Solve(int64_t max_iterations = 0);
+  // Whether most costs changed since the last solve (a new objective): Solve() would then start
+  // from the slack basis, dual feasible for any non-negative costs, since repairing the dual
+  // feasibility of the old basis column by column takes longer.
+  bool most_costs_changed() const;
   // Column values of the last kOptimal solve.
   std::span<const double> column_values() const {
     return {value_.data(), static_cast<size_t>(num_columns_)};

@@ -172,6 +172,55 @@ TEST_P(SheetLpTest, WarmStartedSolvesMatchFreshModels) {
   }
 }
 
+// A new objective now and then (every cost changed: the switch of weight schemes, a separating
+// update), few changes in between. The dual simplex may hand a new objective to CLP and go on
+// from where it stopped; every answer must still be the optimum of the model as it stands.
+TEST_P(SheetLpTest, NewObjectivesBetweenWarmSolvesMatchFreshModels) {
+  constexpr int kPairs = 80;  // more columns than a "new objective" needs changed (100)
+  constexpr int kColumns = 2 * kPairs;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> cost(0.1, 10);
+  std::uniform_int_distribution<int> pair(0, kPairs - 1);
+  std::uniform_int_distribution<int> bound(-2, 2);
+  // Consistency-like rows x_a - x_a' - x_b + x_b' >= lower over random pairs a != b.
+  LpRowBatch rows;
+  std::vector<std::vector<int32_t>> row_columns;
+  for (int r = 0; r < 60; ++r) {
+    const int a = pair(random), b = (a + 1 + pair(random) % (kPairs - 1)) % kPairs;
+    row_columns.push_back({2 * a, 2 * a + 1, 2 * b, 2 * b + 1});
+  }
+  const std::vector<double> coefs = {1, -1, -1, 1};
+  for (const auto& columns : row_columns) rows.Add(columns, coefs, bound(random), kLpInfinity);
+  std::unique_ptr<SheetLp> live = NewLp(kColumns);
+  live->AddRows(rows);
+  std::vector<double> costs(kColumns, 1.0);
+  for (int step = 0; step < 30; ++step) {
+    const bool new_objective = step % 5 == 0;
+    for (int k = 0; k < (new_objective ? kColumns : 3); ++k) {
+      costs[new_objective ? k : static_cast<int>(random() % kColumns)] = cost(random);
+    }
+    const int root = pair(random);
+    std::unique_ptr<SheetLp> fresh = NewClpSheetLp(kColumns);
+    fresh->AddRows(rows);
+    for (SheetLp* lp : {live.get(), fresh.get()}) {
+      for (int c = 0; c < kColumns; ++c) {
+        lp->SetObjectiveCoefficient(c, costs[c]);
+        lp->SetColumnBounds(c, 0, kLpInfinity);
+      }
+      lp->SetColumnBounds(2 * root, 1, kLpInfinity);
+      lp->SetColumnBounds(2 * root + 1, 0, 0);
+    }
+    const absl::StatusOr<LpOutcome> a = live->Solve();
+    const absl::StatusOr<LpOutcome> b = fresh->Solve();
+    ASSERT_TRUE(a.ok()) << a.status();
+    ASSERT_TRUE(b.ok()) << b.status();
+    ASSERT_EQ(*a, *b) << "step " << step;
+    if (*a == LpOutcome::kOptimal) {
+      EXPECT_NEAR(Objective(*live, costs), Objective(*fresh, costs), 1e-7) << "step " << step;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     BackEnds, SheetLpTest,
     ::testing::Values(BackEnd{"SparseDualSimplex", DualSimplexSheetLpFactory()},
@@ -179,7 +228,11 @@ INSTANTIATE_TEST_SUITE_P(
                       BackEnd{"ClpPrimal", ClpSheetLpFactory({.algorithm = ClpAlgorithm::kPrimal})},
                       // Every solve handed to the CLP fallback.
                       BackEnd{"SparseDualSimplexFallback",
-                              DualSimplexSheetLpFactory({.max_iterations = 0})}),
+                              DualSimplexSheetLpFactory({.max_iterations = 0})},
+                      // Every new objective handed to CLP after one pivot.
+                      BackEnd{"SparseDualSimplexNewObjectivesToClp",
+                              DualSimplexSheetLpFactory({.new_objective_min_pivots = 1,
+                                                         .new_objective_pivots_per_row = 0})}),
     [](const auto& info) { return info.param.name; });
 
 }  // namespace
