@@ -201,29 +201,32 @@ void SparseDualSimplex::ApplyPendingPrimalChange() {
   pending_primal_->clear();
 }
 
+template <typename Share>
+void SparseDualSimplex::ForEachNonbasicShare(const CoinIndexedVector& y, Share&& share) const {
+  const double* dense = y.denseVector();
+  const int* index = y.getIndices();
+  for (int k = 0; k < y.getNumElements(); ++k) {
+    const int row = index[k];
+    const double y_row = dense[row];
+    if (std::abs(y_row) < kNoise) continue;
+    const int logical = num_columns_ + row;
+    if (status_[logical] != VarStatus::kBasic) share(logical, -y_row);  // its column is -e_row
+    for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
+      const int32_t j = row_column_[t];
+      if (status_[j] != VarStatus::kBasic) share(j, y_row * row_coef_[t]);
+    }
+  }
+}
+
 void SparseDualSimplex::ApplyPendingCostChange() {
   if (!has_pending_cost_) return;
   has_pending_cost_ = false;
   // delta y = B^-T delta c_B; every nonbasic reduced cost d_v = c_v - col_v^T y moves with it.
   factorization_->updateColumnTranspose(work_.get(), pending_cost_.get());
-  const double* dy = pending_cost_->denseVector();
-  const int* index = pending_cost_->getIndices();
-  for (int k = 0; k < pending_cost_->getNumElements(); ++k) {
-    const int row = index[k];
-    const double delta = dy[row];
-    if (std::abs(delta) < kNoise) continue;
-    const int logical = num_columns_ + row;
-    if (status_[logical] != VarStatus::kBasic) {
-      reduced_cost_[logical] += delta;  // the logical's column is -e_row
-      dual_check_.push_back(logical);
-    }
-    for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
-      const int32_t j = row_column_[t];
-      if (status_[j] == VarStatus::kBasic) continue;
-      reduced_cost_[j] -= row_coef_[t] * delta;
-      dual_check_.push_back(j);
-    }
-  }
+  ForEachNonbasicShare(*pending_cost_, [this](int v, double share) {
+    reduced_cost_[v] -= share;
+    dual_check_.push_back(v);
+  });
   pending_cost_->clear();
 }
 
@@ -289,7 +292,6 @@ bool SparseDualSimplex::LeftArtificialBounds() {
 // Basis and factorization
 
 void SparseDualSimplex::ResetToSlackBasis() {
-  ++slack_resets_;
   at_artificial_bound_.clear();
   std::fill(edge_weight_.begin(), edge_weight_.end(), 1.0);
   for (int j = 0; j < num_columns_; ++j) {
@@ -546,25 +548,11 @@ void SparseDualSimplex::ComputePivotRow(int position) {
   row_->clear();
   row_->insert(position, 1.0);
   factorization_->updateColumnTranspose(work_.get(), row_.get());
-  const double* rho = row_->denseVector();
-  const int* index = row_->getIndices();
-  for (int k = 0; k < row_->getNumElements(); ++k) {
-    const int row = index[k];
-    const double r = rho[row];
-    if (std::abs(r) < kNoise) continue;
-    const int logical = num_columns_ + row;
-    if (status_[logical] != VarStatus::kBasic) {
-      if (alpha_[logical] == 0) alpha_touched_.push_back(logical);
-      alpha_[logical] -= r;
-    }
-    for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
-      const int32_t j = row_column_[t];
-      if (status_[j] == VarStatus::kBasic) continue;
-      if (alpha_[j] == 0) alpha_touched_.push_back(j);
-      alpha_[j] += r * row_coef_[t];
-      if (alpha_[j] == 0) alpha_[j] = 1e-300;  // keep it marked as touched
-    }
-  }
+  ForEachNonbasicShare(*row_, [this](int v, double share) {
+    if (alpha_[v] == 0) alpha_touched_.push_back(v);
+    alpha_[v] += share;
+    if (alpha_[v] == 0) alpha_[v] = 1e-300;  // keep it marked as touched
+  });
 }
 
 bool SparseDualSimplex::RefreshLeavingValue(int position) {

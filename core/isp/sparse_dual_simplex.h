@@ -120,7 +120,6 @@ class SparseDualSimplex {
   // Counters since construction.
   int64_t iterations() const { return iterations_; }
   int64_t refactorizations() const { return refactorizations_; }
-  int64_t slack_resets() const { return slack_resets_; }
 
  private:
   enum class VarStatus : uint8_t { kBasic, kAtLower, kAtUpper, kFree };
@@ -141,6 +140,11 @@ class SparseDualSimplex {
   void RecomputeReducedCosts();
   // Adds column `v` of [A | -I] times `scale` to a row-indexed vector.
   void AddColumnTo(int v, double scale, CoinIndexedVector* vector) const;
+  // y^T [A | -I] over the nonbasic variables, entry by entry: share(v, a_iv * y_i) for every
+  // row i where y is not noise and every nonbasic v in that row (summed per v: col_v^T y). Work
+  // proportional to the rows y reaches.
+  template <typename Share>
+  void ForEachNonbasicShare(const CoinIndexedVector& y, Share&& share) const;
 
   // --- edits
   // Puts nonbasic v at the bound its reduced cost prefers (or its only finite one).
@@ -224,7 +228,6 @@ class SparseDualSimplex {
   int64_t costs_changed_ = 0;  // since the last solve
   int64_t iterations_ = 0;
   int64_t refactorizations_ = 0;
-  int64_t slack_resets_ = 0;
 };
 
 }  // namespace ispq

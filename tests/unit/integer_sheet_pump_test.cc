@@ -104,14 +104,26 @@ TEST(IntegerSheetPumpTest, WithoutTheThoroughPassFewerSolvesAreNeeded) {
   EXPECT_LT(partial.lp_solves, full.lp_solves);
 }
 
-// A synthetic part of 1000 arcs (one subproblem of ~130 bundles): with the threshold at 0, the
-// greedy passes take non-improving sheets as the answer for the other bundles they move, solve
-// less and still end valid; at the default threshold every check is solved.
-TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
+// A synthetic part of 1000 arcs: one subproblem of ~130 bundles.
+TMesh SyntheticPart() {
   const absl::StatusOr<testing::GridTMesh> grid =
       bench::BuildLargeTMesh(bench::LargeFamily::kSingleSubproblem, 1000, 3);
-  ASSERT_TRUE(grid.ok()) << grid.status();
-  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  EXPECT_TRUE(grid.ok()) << grid.status();
+  return testing::TMeshOrDie(grid->proto());
+}
+
+void ExpectSeparatingAndValid(const TMesh& mesh, const IspOutcome& outcome) {
+  EXPECT_TRUE(outcome.separating);
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome.q);
+  ASSERT_TRUE(report.ok());
+  EXPECT_TRUE(report->valid()) << report->Describe();
+}
+
+// With the threshold at 0, the greedy passes take non-improving sheets as the answer for the
+// other bundles they move, solve less and still end valid; at the default threshold every check
+// is solved.
+TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
+  const TMesh mesh = SyntheticPart();
   QuantizeOptions options;
   options.scaling = mesh.levels()[5].scaling;
   IspTuning cover;
@@ -124,21 +136,13 @@ TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
   EXPECT_EQ(exact->stats.covered_checks, 0);
   EXPECT_GT(covered->stats.covered_checks, 0);
   EXPECT_LT(covered->stats.lp_solves, exact->stats.lp_solves);
-  for (const IspOutcome* outcome : {&*exact, &*covered}) {
-    EXPECT_TRUE(outcome->separating);
-    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q);
-    ASSERT_TRUE(report.ok());
-    EXPECT_TRUE(report->valid()) << report->Describe();
-  }
+  for (const IspOutcome* outcome : {&*exact, &*covered}) ExpectSeparatingAndValid(mesh, *outcome);
 }
 
 // The same part with every subproblem counted as large: repairing only the sheets that lose
 // little per moved arc (here: none) solves less than repairing all, and ends valid.
 TEST(IntegerSheetPumpTest, RepairsOnLargeSubproblemsSkipSheetsFarFromImproving) {
-  const absl::StatusOr<testing::GridTMesh> grid =
-      bench::BuildLargeTMesh(bench::LargeFamily::kSingleSubproblem, 1000, 3);
-  ASSERT_TRUE(grid.ok()) << grid.status();
-  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  const TMesh mesh = SyntheticPart();
   QuantizeOptions options;
   options.scaling = mesh.levels()[5].scaling;
   IspTuning every, none;
@@ -151,12 +155,8 @@ TEST(IntegerSheetPumpTest, RepairsOnLargeSubproblemsSkipSheetsFarFromImproving) 
       RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), none, nullptr, nullptr);
   ASSERT_TRUE(repaired.ok() && skipped.ok());
   EXPECT_LT(skipped->stats.lp_solves, repaired->stats.lp_solves);
-  for (const IspOutcome* outcome : {&*repaired, &*skipped}) {
-    EXPECT_TRUE(outcome->separating);
-    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q);
-    ASSERT_TRUE(report.ok());
-    EXPECT_TRUE(report->valid()) << report->Describe();
-  }
+  for (const IspOutcome* outcome : {&*repaired, &*skipped})
+    ExpectSeparatingAndValid(mesh, *outcome);
 }
 
 // A run on a shared T-mesh whose result the validator must accept; its objective.

@@ -35,6 +35,18 @@ double Objective(const SheetLp& lp, const std::vector<double>& costs) {
   return sum;
 }
 
+// Solves both; the warm-started `live` must answer as the freshly built CLP model `fresh`.
+void ExpectSameAnswer(SheetLp& live, SheetLp& fresh, const std::vector<double>& costs) {
+  const absl::StatusOr<LpOutcome> a = live.Solve();
+  const absl::StatusOr<LpOutcome> b = fresh.Solve();
+  ASSERT_TRUE(a.ok()) << a.status();
+  ASSERT_TRUE(b.ok()) << b.status();
+  ASSERT_EQ(*a, *b);
+  if (*a == LpOutcome::kOptimal) {
+    EXPECT_NEAR(Objective(live, costs), Objective(fresh, costs), 1e-7);
+  }
+}
+
 struct BackEnd {
   std::string name;
   SheetLpFactory factory;
@@ -161,14 +173,8 @@ TEST_P(SheetLpTest, WarmStartedSolvesMatchFreshModels) {
       fresh->SetObjectiveCoefficient(c, costs[c]);
       fresh->SetColumnBounds(c, bounds[c].first, bounds[c].second);
     }
-    const absl::StatusOr<LpOutcome> a = live->Solve();
-    const absl::StatusOr<LpOutcome> b = fresh->Solve();
-    ASSERT_TRUE(a.ok()) << a.status();
-    ASSERT_TRUE(b.ok()) << b.status();
-    ASSERT_EQ(*a, *b) << "step " << step;
-    if (*a == LpOutcome::kOptimal) {
-      EXPECT_NEAR(Objective(*live, costs), Objective(*fresh, costs), 1e-7) << "step " << step;
-    }
+    SCOPED_TRACE("step " + std::to_string(step));
+    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, costs));
   }
 }
 
@@ -210,14 +216,8 @@ TEST_P(SheetLpTest, NewObjectivesBetweenWarmSolvesMatchFreshModels) {
       lp->SetColumnBounds(2 * root, 1, kLpInfinity);
       lp->SetColumnBounds(2 * root + 1, 0, 0);
     }
-    const absl::StatusOr<LpOutcome> a = live->Solve();
-    const absl::StatusOr<LpOutcome> b = fresh->Solve();
-    ASSERT_TRUE(a.ok()) << a.status();
-    ASSERT_TRUE(b.ok()) << b.status();
-    ASSERT_EQ(*a, *b) << "step " << step;
-    if (*a == LpOutcome::kOptimal) {
-      EXPECT_NEAR(Objective(*live, costs), Objective(*fresh, costs), 1e-7) << "step " << step;
-    }
+    SCOPED_TRACE("step " + std::to_string(step));
+    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, costs));
   }
 }
 
