@@ -1,6 +1,7 @@
 #include "core/separation_check.h"
 
 #include <iterator>
+#include <utility>
 
 namespace ispq {
 
@@ -13,11 +14,12 @@ SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule) {
 }
 
 std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(std::span<const int64_t> q) {
-  for (SeparationSearch& search : searches_) {
-    std::vector<SeparationViolation> violations = search.FindViolations(q);
-    if (!violations.empty()) return violations;
-  }
-  return {};
+  std::vector<SeparationViolation> violations;
+  FindFirstViolations(q, [&](SeparationViolation& v) {
+    violations.push_back(std::move(v));
+    return true;
+  });
+  return violations;
 }
 
 int64_t SeparationCheck::FindFirstViolations(

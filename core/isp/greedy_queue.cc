@@ -144,8 +144,8 @@ void GreedyQueue::DropOutdatedDependencies() {
     for (int64_t k = begin_[s]; k < begin_[s + 1]; ++k) supports_of_bundle_[pool_[k]].push_back(s);
   }
   // The current supports alone can outnumber the bundles by far (a sheet crosses many bundles):
-  // the next drop waits until the pool grew by half, so each rebuild is paid for by half as
-  // many new entries, and at most a third of the pool is dead.
+  // the next drop waits until the pool grew by a quarter, so each rebuild is paid for by a
+  // quarter as many new entries, and at most a fifth of the pool is dead.
   drop_threshold_ = std::max(drop_threshold_, static_cast<int64_t>(pool_.size()) * 5 / 4);
 }
 

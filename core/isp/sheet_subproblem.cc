@@ -69,7 +69,7 @@ double SheetSubproblem::RowLowerBound(int32_t r) const {
 
 void SheetSubproblem::Build() {
   lp_ = context_->new_lp(2 * static_cast<int>(bundles_.size()));
-  cap_ = lp_->wants_column_cap() ? context_->column_cap : kLpInfinity;
+  cap_ = UsualCap();
   LpRowBatch batch;
   for (int32_t e : equalities_) AppendRow((*context_->equalities)[e], 0.0, 0.0, &batch);
   lp_->AddRows(batch);
@@ -160,7 +160,7 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   SetRequestBounds(request);
   optimal = RunSolver();
   if (optimal.ok() && *optimal) ReadSheet(sheet);
-  cap_ = lp_->wants_column_cap() ? context_->column_cap : kLpInfinity;
+  cap_ = UsualCap();
   ResetAllColumnPairs();
   return optimal;
 }
@@ -222,6 +222,10 @@ absl::StatusOr<bool> SheetSubproblem::RunSolver() {
   const absl::StatusOr<LpOutcome> outcome = lp_->Solve();
   if (!outcome.ok()) return outcome.status();
   return *outcome == LpOutcome::kOptimal;
+}
+
+double SheetSubproblem::UsualCap() const {
+  return lp_->wants_column_cap() ? context_->column_cap : kLpInfinity;
 }
 
 bool SheetSubproblem::ReadSheet(RationalSheet* sheet) {

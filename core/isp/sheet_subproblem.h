@@ -95,6 +95,8 @@ class SheetSubproblem {
   absl::StatusOr<bool> RunSolver();
   // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
   bool ReadSheet(RationalSheet* sheet);
+  // The column cap outside a repeat without it: the context's if the LP wants one, else +inf.
+  double UsualCap() const;
   // Sets every column pair's bounds for the current mode and cap.
   void ResetAllColumnPairs();
   void ResetColumnPair(int32_t local);
