@@ -30,13 +30,13 @@ SheetInfeasibility::Interval& SheetInfeasibility::Bounds(int32_t i) {
   if (bounds_stamp_[i] == stamp_) return bounds;
   bounds_stamp_[i] = stamp_;
   // The mode's sign restrictions (SheetRequest::allow_*), and the bundle's floor row.
-  bounds.lower = request_->allow_deflation ? -kInf : 0;
+  bounds.lower = std::max(request_->allow_deflation ? -kInf : 0, Floor(bundles_[i]));
   bounds.upper = request_->allow_inflation ? kInf : 0;
-  const BundleId b = bundles_[i];
-  if (context_->has_floor[b]) {
-    bounds.lower = std::max(bounds.lower, -static_cast<double>(context_->quantization->value(b)));
-  }
   return bounds;
+}
+
+double SheetInfeasibility::Floor(BundleId b) const {
+  return context_->has_floor[b] ? -static_cast<double>(context_->quantization->value(b)) : -kInf;
 }
 
 bool SheetInfeasibility::Tighten(int32_t i, double lower, double upper) {
@@ -131,11 +131,8 @@ bool SheetInfeasibility::Refutes(const SheetRequest& request) {
   auto set = [&](BundleId b, double lower, double upper) {
     const int32_t i = local[b];
     Interval& bounds = Bounds(i);
-    bounds.lower = lower;
+    bounds.lower = std::max(lower, Floor(b));
     bounds.upper = upper;
-    if (context_->has_floor[b]) {
-      bounds.lower = std::max(bounds.lower, -static_cast<double>(context_->quantization->value(b)));
-    }
     QueueRowsOf(i);
     return bounds.lower <= bounds.upper + kRefuteMargin;
   };

@@ -44,6 +44,8 @@ class SheetInfeasibility {
   };
   // The bounds of local bundle i under the request, as tightened so far.
   Interval& Bounds(int32_t i);
+  // The least move bundle b's floor row allows (Delta_b >= -x_b), -inf without one.
+  double Floor(BundleId b) const;
   // Tightens bundle i to [lower, upper]; false if its interval became empty.
   bool Tighten(int32_t i, double lower, double upper);
   // Queues the rows of local bundle i.

@@ -7,7 +7,7 @@
 // solver keeps everything between solves and updates only what an edit or a pivot touches:
 //
 //   - the basis is factorized by CoinUtils' CoinFactorization (sparse LU with Forrest-Tomlin
-//     updates, hypersparse solves), refactorized every few dozen pivots;
+//     updates, hypersparse solves), refactorized every max_pivots pivots;
 //   - primal values and reduced costs are updated incrementally: an edit of a nonbasic bound
 //     costs one FTRAN, an edit of a basic cost one BTRAN, a pivot a BTRAN, an FTRAN and the
 //     pivot row over the rows the BTRAN reached;
