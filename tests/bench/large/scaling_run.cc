@@ -32,6 +32,8 @@
 ABSL_FLAG(std::string, mesh, "", "T-mesh file (.pb or .json)");
 ABSL_FLAG(int, level, 100, "resolution level percent");
 ABSL_FLAG(bool, header, false, "print the TSV header first");
+ABSL_FLAG(bool, timeline, false,
+          "print every progress event (CPU s, phase, sheets, LP solves) to stderr");
 ABSL_FLAG(double, time_limit, std::numeric_limits<double>::infinity(), "seconds");
 
 namespace ispq::bench {
@@ -65,6 +67,15 @@ class RunWatcher : public ProgressObserver {
  public:
   explicit RunWatcher(double cpu_start) : cpu_start_(cpu_start) {}
   void OnProgress(const ProgressEvent& event) override {
+    if (absl::GetFlag(FLAGS_timeline)) {
+      std::fprintf(
+          stderr, "%.3f\tphase=%d\tsheets=%lld\tround=%lld\tlp=%lld\tviolated=%lld\t%s\t%.4f\n",
+          ThreadCpuSeconds() - cpu_start_, static_cast<int>(event.phase),
+          static_cast<long long>(event.iteration), static_cast<long long>(event.separation_round),
+          static_cast<long long>(event.lp_solves),
+          static_cast<long long>(event.violated_constraints), event.separating ? "SEPARATING" : "-",
+          event.objective);
+    }
     if (greedy_rss_ < 0 && event.phase != QuantizationPhase::kGreedy) greedy_rss_ = PeakRssMib();
     if (event.separating && first_separating_cpu_ < 0) {
       first_separating_cpu_ = ThreadCpuSeconds() - cpu_start_;
