@@ -67,8 +67,8 @@ class IntegerSheetPump {
   // Greedy descent (Alg. 1, inner loop): pumps roots until the pass converges; true if a sheet
   // was accepted.
   absl::StatusOr<bool> Greedy(bool thorough, QuantizationPhase phase);
-  // Alg. 2 for one root: toward its target (and, in a thorough pass, the other way); true if a
-  // sheet was accepted.
+  // Alg. 2 for one root: toward its target (and, in a thorough pass on a subproblem below
+  // IspTuning::away_checks_max_bundles, the other way); true if a sheet was accepted.
   absl::StatusOr<bool> PumpRoot(BundleId root, bool thorough);
   // The cheapest sheet of a root is often not an improving one while an improving one exists:
   // blocks the bundles it made worse from moving that way and solves again.
@@ -226,9 +226,10 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
 
 absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
   const bool toward_inflation = quantization_.mean_deviation(root) >= 0;
-  const bool covering =
-      subproblems_.Of(root).bundles().size() >= static_cast<size_t>(tuning_.cover_min_bundles);
-  for (int k = 0; k < (thorough ? 2 : 1); ++k) {
+  const size_t size = subproblems_.Of(root).bundles().size();
+  const bool covering = size >= static_cast<size_t>(tuning_.cover_min_bundles);
+  const bool both_ways = thorough && size < static_cast<size_t>(tuning_.away_checks_max_bundles);
+  for (int k = 0; k < (both_ways ? 2 : 1); ++k) {
     const bool inflate = (k == 0) == toward_inflation;
     if (covering) {
       const std::optional<SheetCoverage::Answer> answer = coverage_.CoveringSheet(root, inflate);

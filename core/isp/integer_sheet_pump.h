@@ -2,10 +2,10 @@
 // shared/separation.md section 3.13: q = 0, greedy descent by integer sheets rooted at the bundles
 // furthest from their targets, then rounds of (simple rows | structural search) -> separating
 // sheet updates -> greedy descent, until the search finds nothing and a final thorough greedy
-// pass (both directions for every bundle) changes nothing. A search hands over only the rows of
-// its first few violations in each subproblem; while it left some over, the search is repeated
-// right after the separating update, before descending (core/isp/isp_tuning.h,
-// max_new_rows_per_search).
+// pass (both directions for every bundle; toward its target only on large subproblems) changes
+// nothing. A search hands over only the rows of its first few violations in each subproblem;
+// while it left some over, the search is repeated right after the separating update, before
+// descending (core/isp/isp_tuning.h, max_new_rows_per_search).
 //
 // Quantize() (core/quantizer.h) is the product entry point: it validates the options, supplies
 // the LP back end and checks the final q with the validator. The engine is written against

@@ -39,7 +39,7 @@ struct IspTuning {
   // (false: +0.070%, 3% fewer LP solves; the multiplied sheet is often far from locally minimal).
   bool integer_dive = true;
   // Run the final thorough pass (both directions, no early stop) before accepting a result
-  // (false: +0.135%, 62% fewer LP solves).
+  // (false: +0.62%, 62% fewer LP solves).
   bool thorough_final_pass = true;
   // In subproblems of at least this many bundles, a greedy pass does not solve for a
   // (root, direction) that a non-improving sheet of an earlier root moved that way (since the
@@ -53,6 +53,18 @@ struct IspTuning {
   // instances, which have at most 65 bundles, it would lose 5 instances (up to +20%): below the
   // threshold every check is solved.
   int cover_min_bundles = 256;
+  // A thorough pass pumps the roots of a subproblem of fewer than this many bundles both ways,
+  // those of larger ones toward their targets only. Pumping a root away from its target improves
+  // the objective only through the other bundles the sheet moves toward theirs, and pumping those
+  // finds such sheets. On large parts the away checks were most of the thorough pass's solves
+  // (at 100k arcs, 1,500-3,900 of 2,000-6,000 solves of a run) and were accepted 3 times in
+  // 27 scaling runs (10k-100k arcs, three families, levels 5/25/100). Toward targets only, at
+  // 10k-200k arcs: 0.22-0.73x the CPU in 34 of 36 runs (200k arcs at level 100: 0.87x and 1.03x,
+  // though the LP solves halve: the away solves were the cheap ones there). Objective ratio over
+  // all 72 runs (100 to 200k arcs): 1.00007 on average, 7 better, 5 worse, at most +0.47%. The
+  // shared instances are all below the threshold; at 0 they would take 34% fewer LP solves for
+  // +0.007% objective.
+  int away_checks_max_bundles = 256;
   // Separate in the failsafe mode of App. B only (structural rows in their non-negative form,
   // non-deflating sheets), skipping the default and non-deflating modes. The default mode
   // succeeds on every shared instance (true: +0.000%), so this is what lets tests exercise the

@@ -39,6 +39,7 @@ std::vector<Variant> Variants() {
       {"failsafe_only", [](IspTuning& t) { t.failsafe_separation_only = true; }},
       {"no_thorough_pass", [](IspTuning& t) { t.thorough_final_pass = false; }},
       {"cover_everywhere", [](IspTuning& t) { t.cover_min_bundles = 0; }},
+      {"toward_targets_only", [](IspTuning& t) { t.away_checks_max_bundles = 0; }},
       {"all_rows_at_once", [](IspTuning& t) { t.max_new_rows_per_search = 1 << 30; }},
       {"one_row_per_search", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
       {"primal_simplex", [](IspTuning&) {}, {.algorithm = ClpAlgorithm::kPrimal}},
@@ -157,6 +158,23 @@ TEST(IntegerSheetPumpTest, RepairsOnLargeSubproblemsSkipSheetsFarFromImproving) 
   EXPECT_LT(skipped->stats.lp_solves, repaired->stats.lp_solves);
   for (const IspOutcome* outcome : {&*repaired, &*skipped})
     ExpectSeparatingAndValid(mesh, *outcome);
+}
+
+// Thorough passes pump the roots of subproblems at or above the threshold toward their targets
+// only: with the threshold at 0 the same part takes fewer solves and still ends valid.
+TEST(IntegerSheetPumpTest, ThoroughPassesOnLargeSubproblemsPumpTowardTargetsOnly) {
+  const TMesh mesh = SyntheticPart();
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  IspTuning toward;
+  toward.away_checks_max_bundles = 0;
+  const absl::StatusOr<IspOutcome> both =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, nullptr, nullptr);
+  const absl::StatusOr<IspOutcome> one =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), toward, nullptr, nullptr);
+  ASSERT_TRUE(both.ok() && one.ok());
+  EXPECT_LT(one->stats.lp_solves, both->stats.lp_solves);
+  for (const IspOutcome* outcome : {&*both, &*one}) ExpectSeparatingAndValid(mesh, *outcome);
 }
 
 // A run on a shared T-mesh whose result the validator must accept; its objective.
