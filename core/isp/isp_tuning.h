@@ -57,7 +57,7 @@ struct IspTuning {
   // those of larger ones toward their targets only. Pumping a root away from its target improves
   // the objective only through the other bundles the sheet moves toward theirs, and pumping those
   // finds such sheets. On large parts the away checks were most of the thorough pass's solves
-  // (at 100k arcs, 1,500-3,900 of 2,000-6,000 solves of a run) and were accepted 3 times in
+  // (at 100k arcs, 1,500-3,900 of the 3,000-6,300 solves of a run) and were accepted 3 times in
   // 27 scaling runs (10k-100k arcs, three families, levels 5/25/100). Toward targets only, at
   // 10k-200k arcs: 0.22-0.73x the CPU in 34 of 36 runs (200k arcs at level 100: 0.87x and 1.03x,
   // though the LP solves halve: the away solves were the cheap ones there). Objective ratio over
