@@ -59,7 +59,7 @@ struct IspTuning {
   // finds such sheets. On large parts the away checks were most of the thorough pass's solves
   // (at 100k arcs, 1,500-3,900 of the 3,000-6,300 solves of a run) and were accepted 3 times in
   // 27 scaling runs (10k-100k arcs, three families, levels 5/25/100). Toward targets only, at
-  // 10k-200k arcs: 0.22-0.73x the CPU in 34 of 36 runs; side by side (paired runs, median):
+  // 10k-200k arcs: 0.24-0.80x the CPU in 34 of 36 runs; side by side (paired runs, median):
   // 100k single part 0.51x at level 5 and 0.61x at level 100, 200k slabs 0.26x, but 200k single
   // at level 100 only 0.92x, though its LP solves halve (the away solves were the cheap ones
   // there). Objective ratio over all 72 runs (100 to 200k arcs): 1.00007 on average, 7 better,
