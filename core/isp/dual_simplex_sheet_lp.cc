@@ -13,7 +13,7 @@ namespace {
 class DualSimplexSheetLp final : public SheetLp {
  public:
   DualSimplexSheetLp(int num_columns, const SparseDualSimplexOptions& options)
-      : options_(options), simplex_(num_columns, options) {}
+      : simplex_(num_columns, options) {}
 
   int num_columns() const override { return simplex_.num_columns(); }
   int num_rows() const override { return simplex_.num_rows(); }
@@ -59,8 +59,9 @@ class DualSimplexSheetLp final : public SheetLp {
   // in about half the time. 0: the options' limit.
   int64_t PivotBudget() const {
     if (!simplex_.most_costs_changed()) return 0;
-    const double per_rows = options_.new_objective_pivots_per_row * simplex_.num_rows();
-    return std::max<int64_t>({1, options_.new_objective_min_pivots, std::llround(per_rows)});
+    const SparseDualSimplexOptions& options = simplex_.options();
+    const double per_rows = options.new_objective_pivots_per_row * simplex_.num_rows();
+    return std::max<int64_t>({1, options.new_objective_min_pivots, std::llround(per_rows)});
   }
 
   // The model as it stands, solved from scratch by CLP.
@@ -87,7 +88,6 @@ class DualSimplexSheetLp final : public SheetLp {
     return outcome;
   }
 
-  const SparseDualSimplexOptions options_;
   SparseDualSimplex simplex_;
   bool used_fallback_ = false;
   std::vector<double> fallback_values_;

@@ -120,6 +120,7 @@ class SparseDualSimplex {
   // Counters since construction.
   int64_t iterations() const { return iterations_; }
   int64_t refactorizations() const { return refactorizations_; }
+  const SparseDualSimplexOptions& options() const { return options_; }
 
  private:
   enum class VarStatus : uint8_t { kBasic, kAtLower, kAtUpper, kFree };

@@ -8,6 +8,7 @@
 #include <functional>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/isp/clp_sheet_lp.h"
@@ -120,61 +121,52 @@ void ExpectSeparatingAndValid(const TMesh& mesh, const IspOutcome& outcome) {
   EXPECT_TRUE(report->valid()) << report->Describe();
 }
 
+// A run on the synthetic part at its level-5 scaling, which must end separating and valid.
+IspOutcome ValidRunOnPart(const TMesh& mesh, const IspTuning& tuning) {
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  absl::StatusOr<IspOutcome> outcome =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), tuning, nullptr, nullptr);
+  EXPECT_TRUE(outcome.ok()) << outcome.status();
+  if (!outcome.ok()) return {};
+  ExpectSeparatingAndValid(mesh, *outcome);
+  return *std::move(outcome);
+}
+
 // With the threshold at 0, the greedy passes take non-improving sheets as the answer for the
 // other bundles they move, solve less and still end valid; at the default threshold every check
 // is solved.
 TEST(IntegerSheetPumpTest, CoveredChecksSaveSolvesOnlyAboveTheThreshold) {
   const TMesh mesh = SyntheticPart();
-  QuantizeOptions options;
-  options.scaling = mesh.levels()[5].scaling;
   IspTuning cover;
   cover.cover_min_bundles = 0;
-  const absl::StatusOr<IspOutcome> exact =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, nullptr, nullptr);
-  const absl::StatusOr<IspOutcome> covered =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), cover, nullptr, nullptr);
-  ASSERT_TRUE(exact.ok() && covered.ok());
-  EXPECT_EQ(exact->stats.covered_checks, 0);
-  EXPECT_GT(covered->stats.covered_checks, 0);
-  EXPECT_LT(covered->stats.lp_solves, exact->stats.lp_solves);
-  for (const IspOutcome* outcome : {&*exact, &*covered}) ExpectSeparatingAndValid(mesh, *outcome);
+  const IspOutcome exact = ValidRunOnPart(mesh, IspTuning{});
+  const IspOutcome covered = ValidRunOnPart(mesh, cover);
+  EXPECT_EQ(exact.stats.covered_checks, 0);
+  EXPECT_GT(covered.stats.covered_checks, 0);
+  EXPECT_LT(covered.stats.lp_solves, exact.stats.lp_solves);
 }
 
 // The same part with every subproblem counted as large: repairing only the sheets that lose
 // little per moved arc (here: none) solves less than repairing all, and ends valid.
 TEST(IntegerSheetPumpTest, RepairsOnLargeSubproblemsSkipSheetsFarFromImproving) {
   const TMesh mesh = SyntheticPart();
-  QuantizeOptions options;
-  options.scaling = mesh.levels()[5].scaling;
   IspTuning every, none;
   every.cover_min_bundles = none.cover_min_bundles = 0;
   every.repair_max_loss_per_arc = std::numeric_limits<double>::infinity();
   none.repair_max_loss_per_arc = 0;
-  const absl::StatusOr<IspOutcome> repaired =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), every, nullptr, nullptr);
-  const absl::StatusOr<IspOutcome> skipped =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), none, nullptr, nullptr);
-  ASSERT_TRUE(repaired.ok() && skipped.ok());
-  EXPECT_LT(skipped->stats.lp_solves, repaired->stats.lp_solves);
-  for (const IspOutcome* outcome : {&*repaired, &*skipped})
-    ExpectSeparatingAndValid(mesh, *outcome);
+  EXPECT_LT(ValidRunOnPart(mesh, none).stats.lp_solves,
+            ValidRunOnPart(mesh, every).stats.lp_solves);
 }
 
 // Thorough passes pump the roots of subproblems at or above the threshold toward their targets
 // only: with the threshold at 0 the same part takes fewer solves and still ends valid.
 TEST(IntegerSheetPumpTest, ThoroughPassesOnLargeSubproblemsPumpTowardTargetsOnly) {
   const TMesh mesh = SyntheticPart();
-  QuantizeOptions options;
-  options.scaling = mesh.levels()[5].scaling;
   IspTuning toward;
   toward.away_checks_max_bundles = 0;
-  const absl::StatusOr<IspOutcome> both =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, nullptr, nullptr);
-  const absl::StatusOr<IspOutcome> one =
-      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), toward, nullptr, nullptr);
-  ASSERT_TRUE(both.ok() && one.ok());
-  EXPECT_LT(one->stats.lp_solves, both->stats.lp_solves);
-  for (const IspOutcome* outcome : {&*both, &*one}) ExpectSeparatingAndValid(mesh, *outcome);
+  EXPECT_LT(ValidRunOnPart(mesh, toward).stats.lp_solves,
+            ValidRunOnPart(mesh, IspTuning{}).stats.lp_solves);
 }
 
 // A run on a shared T-mesh whose result the validator must accept; its objective.

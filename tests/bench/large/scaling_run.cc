@@ -65,20 +65,13 @@ void ResetPeakRss() {
 // separating q.
 class RunWatcher : public ProgressObserver {
  public:
-  explicit RunWatcher(double cpu_start) : cpu_start_(cpu_start) {}
+  RunWatcher(double cpu_start, bool timeline) : cpu_start_(cpu_start), timeline_(timeline) {}
   void OnProgress(const ProgressEvent& event) override {
-    if (absl::GetFlag(FLAGS_timeline)) {
-      std::fprintf(
-          stderr, "%.3f\tphase=%d\tsheets=%lld\tround=%lld\tlp=%lld\tviolated=%lld\t%s\t%.4f\n",
-          ThreadCpuSeconds() - cpu_start_, static_cast<int>(event.phase),
-          static_cast<long long>(event.iteration), static_cast<long long>(event.separation_round),
-          static_cast<long long>(event.lp_solves),
-          static_cast<long long>(event.violated_constraints), event.separating ? "SEPARATING" : "-",
-          event.objective);
-    }
+    const double cpu = ThreadCpuSeconds() - cpu_start_;
+    if (timeline_) PrintEvent(cpu, event);
     if (greedy_rss_ < 0 && event.phase != QuantizationPhase::kGreedy) greedy_rss_ = PeakRssMib();
     if (event.separating && first_separating_cpu_ < 0) {
-      first_separating_cpu_ = ThreadCpuSeconds() - cpu_start_;
+      first_separating_cpu_ = cpu;
       first_separating_objective_ = event.objective;
       first_separating_rss_ = PeakRssMib();
     }
@@ -89,7 +82,17 @@ class RunWatcher : public ProgressObserver {
   double first_separating_rss_ = -1;
 
  private:
+  static void PrintEvent(double cpu, const ProgressEvent& event) {
+    std::fprintf(
+        stderr, "%.3f\tphase=%d\tsheets=%lld\tround=%lld\tlp=%lld\tviolated=%lld\t%s\t%.4f\n", cpu,
+        static_cast<int>(event.phase), static_cast<long long>(event.iteration),
+        static_cast<long long>(event.separation_round), static_cast<long long>(event.lp_solves),
+        static_cast<long long>(event.violated_constraints), event.separating ? "SEPARATING" : "-",
+        event.objective);
+  }
+
   double cpu_start_;
+  bool timeline_;
 };
 
 int Run() {
@@ -108,7 +111,7 @@ int Run() {
   options.scaling = scaling;
   options.time_limit_seconds = absl::GetFlag(FLAGS_time_limit);
   const double cpu_start = ThreadCpuSeconds();
-  RunWatcher watcher(cpu_start);
+  RunWatcher watcher(cpu_start, absl::GetFlag(FLAGS_timeline));
   const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &watcher);
   const double cpu = ThreadCpuSeconds() - cpu_start;
   if (!result.ok()) {
