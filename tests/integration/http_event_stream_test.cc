@@ -47,6 +47,34 @@ void ExpectSameEvents(const std::vector<v1::QuantizeEvent>& sse,
   }
 }
 
+// Two readers of a running job: the log keeps only the latest progress and intermediate snapshot
+// (server/job_event_log.h), so a reader that falls behind, as one may on a loaded machine, skips
+// superseded snapshots. Every event both received is the same, and each skipped one is a
+// snapshot; the accepted event and the result reach both.
+void ExpectAgreeingLiveEvents(const std::vector<v1::QuantizeEvent>& sse,
+                              const std::vector<v1::QuantizeEvent>& grpc) {
+  const auto is_snapshot = [](const v1::QuantizeEvent& e) {
+    return e.has_progress() || e.has_intermediate();
+  };
+  size_t i = 0, j = 0, common = 0;
+  while (i < sse.size() || j < grpc.size()) {
+    if (j == grpc.size() || (i < sse.size() && sse[i].sequence() < grpc[j].sequence())) {
+      EXPECT_TRUE(is_snapshot(sse[i])) << "only in the SSE stream: " << sse[i].ShortDebugString();
+      ++i;
+    } else if (i == sse.size() || grpc[j].sequence() < sse[i].sequence()) {
+      EXPECT_TRUE(is_snapshot(grpc[j])) << "only in WatchJob: " << grpc[j].ShortDebugString();
+      ++j;
+    } else {
+      EXPECT_TRUE(MessageDifferencer::Equals(sse[i], grpc[j]))
+          << "event " << sse[i].sequence() << ":\n"
+          << sse[i].ShortDebugString() << "\nvs\n"
+          << grpc[j].ShortDebugString();
+      ++i, ++j, ++common;
+    }
+  }
+  EXPECT_GE(common, 2u) << "the accepted event and the result at least";
+}
+
 // The frames' ids are the events' numbers, and the stream ends with an `end` frame.
 void ExpectWellFormed(const SseStream& stream, const std::string& final_status) {
   EXPECT_EQ(stream.status, 200);
@@ -106,8 +134,7 @@ TEST(HttpEventStreamTest, LiveJobStreamsTheSameEventsAsWatchJob) {
   ASSERT_EQ(submitted.status, 200) << submitted.body;
   const std::string name = FromJson<v1::Job>(submitted.body).name();
 
-  // Both watch from the start while the job runs. Both readers keep up on loopback, so the log's
-  // compaction (which may skip a superseded progress event for a slow reader) drops nothing.
+  // Both watch from the start while the job runs.
   SseStream stream;
   std::thread sse([&] { stream = ReadEventStream(server.http_port, WatchPath(name)); });
   client::JobOutcome outcome;
@@ -117,7 +144,7 @@ TEST(HttpEventStreamTest, LiveJobStreamsTheSameEventsAsWatchJob) {
   ExpectWellFormed(stream, "OK");
   const std::vector<v1::QuantizeEvent> events = EventsOf(stream);
   ASSERT_GE(events.size(), 4u) << "accepted, progress..., result";
-  ExpectSameEvents(events, grpc);
+  ExpectAgreeingLiveEvents(events, grpc);
   EXPECT_TRUE(events.front().has_accepted());
   ASSERT_TRUE(events.back().has_result());
   EXPECT_TRUE(IsValidResult(mesh, events.back().result()));
