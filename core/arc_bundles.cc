@@ -36,16 +36,18 @@ std::vector<LinearTerm> ArcBundles::ToBundleTerms(std::span<const LinearTerm> ar
   for (const LinearTerm& t : arc_terms) terms.push_back({bundle_of_arc_[t.var], t.coef});
   std::sort(terms.begin(), terms.end(),
             [](const LinearTerm& x, const LinearTerm& y) { return x.var < y.var; });
-  std::vector<LinearTerm> merged;
+  // Merged in place: terms[0, kept) are the bundles so far, each once.
+  size_t kept = 0;
   for (const LinearTerm& t : terms) {
-    if (!merged.empty() && merged.back().var == t.var) {
-      merged.back().coef += t.coef;
+    if (kept > 0 && terms[kept - 1].var == t.var) {
+      terms[kept - 1].coef += t.coef;
     } else {
-      merged.push_back(t);
+      terms[kept++] = t;
     }
   }
-  std::erase_if(merged, [](const LinearTerm& t) { return t.coef == 0; });
-  return merged;
+  terms.resize(kept);
+  std::erase_if(terms, [](const LinearTerm& t) { return t.coef == 0; });
+  return terms;
 }
 
 }  // namespace ispq
