@@ -8,6 +8,12 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
   const int num_blocks = mesh.num_blocks();
   block_first_slot_.reserve(num_blocks + 1);
   corner_slots_.resize(num_blocks);
+  // A block's boundary is connected, so it has at most one node more than arcs.
+  size_t boundary_arcs = 0;
+  for (BlockId b = 0; b < num_blocks; ++b) boundary_arcs += mesh.block_arcs(b).size();
+  slot_node_.reserve(boundary_arcs + num_blocks);
+  slot_block_.reserve(boundary_arcs + num_blocks);
+  tree_steps_.reserve(boundary_arcs);
   std::vector<NodeId> nodes;
   // Per block: slots for the endpoints of its boundary arcs, ascending by node id.
   for (BlockId b = 0; b < num_blocks; ++b) {
@@ -26,28 +32,45 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
   }
   block_first_slot_.push_back(static_cast<SlotId>(slot_node_.size()));
 
-  // Breadth-first spanning tree of each block's boundary graph from its (-,-,-) corner.
-  std::vector<std::vector<TreeStep>> adjacency;
+  // Breadth-first spanning tree of each block's boundary graph from its (-,-,-) corner, over
+  // that graph in flat arrays (edges grouped by their first slot) and a node -> slot map that is
+  // filled for one block at a time.
+  std::vector<SlotId> slot_at_node(mesh.num_nodes(), kNoId);
+  std::vector<int32_t> edge_begin;
+  std::vector<TreeStep> edges;
   std::vector<uint8_t> reached;
   std::vector<SlotId> queue;
   for (BlockId b = 0; b < num_blocks; ++b) {
-    for (int c = 0; c < kNumCorners; ++c) corner_slots_[b][c] = Find(b, mesh.block_corner(b, c));
     const SlotId first = block_first_slot_[b];
     const int count = block_first_slot_[b + 1] - first;
-    adjacency.assign(count, {});
-    for (const BlockArc& ba : mesh.block_arcs(b)) {
-      const SlotId from = Find(b, mesh.arc_from(ba.arc));
-      const SlotId to = Find(b, mesh.arc_to(ba.arc));
-      adjacency[from - first].push_back({to, from, ba.arc, ba.dir});
-      adjacency[to - first].push_back({from, to, ba.arc, Opposite(ba.dir)});
+    for (SlotId s = first; s < first + count; ++s) slot_at_node[slot_node_[s]] = s;
+    for (int c = 0; c < kNumCorners; ++c) {
+      corner_slots_[b][c] = slot_at_node[mesh.block_corner(b, c)];
     }
+    const std::span<const BlockArc> arcs = mesh.block_arcs(b);
+    edge_begin.assign(count + 1, 0);
+    for (const BlockArc& ba : arcs) {
+      ++edge_begin[slot_at_node[mesh.arc_from(ba.arc)] - first + 1];
+      ++edge_begin[slot_at_node[mesh.arc_to(ba.arc)] - first + 1];
+    }
+    for (int i = 0; i < count; ++i) edge_begin[i + 1] += edge_begin[i];
+    edges.resize(2 * arcs.size());
+    for (const BlockArc& ba : arcs) {
+      const SlotId from = slot_at_node[mesh.arc_from(ba.arc)];
+      const SlotId to = slot_at_node[mesh.arc_to(ba.arc)];
+      edges[edge_begin[from - first]++] = {to, from, ba.arc, ba.dir};
+      edges[edge_begin[to - first]++] = {from, to, ba.arc, Opposite(ba.dir)};
+    }
+    // Each slot's edges now end where the next slot's begin.
     reached.assign(count, 0);
     const SlotId root = corner_slots_[b][kMinCorner];
     roots_.push_back(root);
     reached[root - first] = 1;
     queue.assign(1, root);
     for (size_t i = 0; i < queue.size(); ++i) {
-      for (const TreeStep& step : adjacency[queue[i] - first]) {
+      const int local = queue[i] - first;
+      for (int e = local == 0 ? 0 : edge_begin[local - 1]; e < edge_begin[local]; ++e) {
+        const TreeStep& step = edges[e];
         if (reached[step.slot - first]) continue;
         reached[step.slot - first] = 1;
         tree_steps_.push_back(step);
@@ -58,6 +81,7 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
     for (int i = 0; i < count; ++i) {
       if (!reached[i]) roots_.push_back(first + i);
     }
+    for (SlotId s = first; s < first + count; ++s) slot_at_node[slot_node_[s]] = kNoId;
   }
 }
 

@@ -26,6 +26,9 @@ class BlockNodeSlots {
 
   int num_slots() const { return static_cast<int>(slot_node_.size()); }
   BlockId block_of(SlotId s) const { return slot_block_[s]; }
+  // The slots of block b are first_slot(b) .. end_slot(b) - 1, ascending by node id.
+  SlotId first_slot(BlockId b) const { return block_first_slot_[b]; }
+  SlotId end_slot(BlockId b) const { return block_first_slot_[b + 1]; }
   NodeId node_of(SlotId s) const { return slot_node_[s]; }
   // Slot of node n on block b, or kNoId if n is not on b's boundary (binary search).
   SlotId Find(BlockId b, NodeId n) const;

@@ -31,6 +31,13 @@ class FlatLists {
     ++offsets_.back();
   }
 
+  // Makes room for `lists` lists of `values` values in all: on a large mesh, growing the arrays
+  // one push at a time copies them again and again into freshly faulted memory.
+  void Reserve(size_t lists, size_t values) {
+    offsets_.reserve(lists + 1);
+    values_.reserve(values);
+  }
+
   int size() const { return static_cast<int>(offsets_.size()) - 1; }
   std::span<const T> operator[](int i) const {
     return {values_.data() + offsets_[i], values_.data() + offsets_[i + 1]};

@@ -16,13 +16,22 @@ std::vector<HalfpatchId> HalfpatchesAroundHalfarc(const TMesh& mesh, HalfarcId h
 
 std::vector<BlockId> BlocksAroundHalfarc(const TMesh& mesh, HalfarcId h) {
   std::vector<BlockId> blocks;
-  for (HalfpatchId hp : HalfpatchesAroundHalfarc(mesh, h)) {
+  BlocksAroundHalfarc(mesh, h, &blocks);
+  return blocks;
+}
+
+void BlocksAroundHalfarc(const TMesh& mesh, HalfarcId h, std::vector<BlockId>* blocks) {
+  blocks->clear();
+  // The radial order of HalfpatchesAroundHalfarc, read in place.
+  const std::span<const HalfpatchId> listed = mesh.arc_halfpatches(ArcOf(h));
+  const int n = static_cast<int>(listed.size());
+  for (int i = 0; i < n; ++i) {
+    const HalfpatchId hp = (h & 1) ? listed[n - 1 - i] ^ 1 : listed[i];
     const BlockId b = mesh.halfpatch_block(hp);
-    if (b != kNoId && std::find(blocks.begin(), blocks.end(), b) == blocks.end()) {
-      blocks.push_back(b);
+    if (b != kNoId && std::find(blocks->begin(), blocks->end(), b) == blocks->end()) {
+      blocks->push_back(b);
     }
   }
-  return blocks;
 }
 
 int IndexInHalfpatchCycle(const TMesh& mesh, HalfpatchId hp, HalfarcId h) {

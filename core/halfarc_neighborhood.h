@@ -19,6 +19,9 @@ std::vector<HalfpatchId> HalfpatchesAroundHalfarc(const TMesh& mesh, HalfarcId h
 
 // Blocks faced by those halfpatches, in the same order, boundary sides skipped, each once.
 std::vector<BlockId> BlocksAroundHalfarc(const TMesh& mesh, HalfarcId h);
+// The same into `blocks` (cleared first), for loops over every halfarc: no allocation once
+// `blocks` has grown.
+void BlocksAroundHalfarc(const TMesh& mesh, HalfarcId h, std::vector<BlockId>* blocks);
 
 // Position of h in the cycle of halfpatch hp, or -1 if the cycle does not contain h.
 int IndexInHalfpatchCycle(const TMesh& mesh, HalfpatchId hp, HalfarcId h);

@@ -115,7 +115,51 @@ struct SeparationSearchTables {
   FlatLists<CriticalSide> critical_sides;    // per node, ascending incident halfpatch
   FlatLists<SlotId> side_slots;              // per halfpatch: its owner's slots of its cycle
   std::vector<Rotation> crossing_rotation;   // per halfpatch: Rot(g)
+
+ private:
+  void AddFanCrossings(const TMesh& mesh);
 };
+
+// fan_crossings, block by block: each side of the block adds itself to the slots of the nodes
+// on its cycle, so the sides of each slot come in the block's halfpatch order.
+void SeparationSearchTables::AddFanCrossings(const TMesh& mesh) {
+  std::vector<int32_t> local_of_node(mesh.num_nodes(), -1);  // slot - first slot of the block
+  std::vector<HalfpatchId> last_side;  // per local slot: a node twice in a cycle counts once
+  std::vector<int32_t> end;            // per local slot, after the fill below
+  std::vector<FanCrossing> crossings;
+  // Calls `visit(local slot, side)` for every (slot, side through its node) pair of block b.
+  const auto for_each_pair = [&](BlockId b, const auto& visit) {
+    std::fill(last_side.begin(), last_side.end(), kNoId);
+    for (const HalfpatchId side : mesh.block_halfpatches(b)) {
+      for (int i = 0; i < mesh.halfpatch_cycle_size(side); ++i) {
+        const int32_t local = local_of_node[mesh.tail(mesh.HalfpatchCycleAt(side, i))];
+        if (last_side[local] == side) continue;
+        last_side[local] = side;
+        visit(local, side);
+      }
+    }
+  };
+  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+    const SlotId first = slots.first_slot(b);
+    const int count = slots.end_slot(b) - first;
+    for (int i = 0; i < count; ++i) local_of_node[slots.node_of(first + i)] = i;
+    last_side.assign(count, kNoId);
+    end.assign(count + 1, 0);  // counts, then prefix sums, then each slot's end
+    for_each_pair(b, [&](int32_t local, HalfpatchId) { ++end[local + 1]; });
+    for (int i = 0; i < count; ++i) end[i + 1] += end[i];
+    crossings.resize(end[count]);
+    for_each_pair(b, [&](int32_t local, HalfpatchId side) {
+      const BlockId across = mesh.halfpatch_block(side ^ 1);
+      const NodeId n = slots.node_of(first + local);
+      crossings[end[local]++] = {side, across == kNoId ? kNoId : slots.Find(across, n)};
+    });
+    for (int i = 0; i < count; ++i) {
+      fan_crossings.OpenList();
+      for (int e = i == 0 ? 0 : end[i - 1]; e < end[i]; ++e) fan_crossings.PushToLast(crossings[e]);
+      local_of_node[slots.node_of(first + i)] = -1;
+    }
+  }
+}
 
 class SeparationSearch::Impl {
  public:
@@ -190,6 +234,16 @@ class SeparationSearch::Impl {
 };
 
 SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh), configs(mesh) {
+  size_t halfarc_block_pairs = 0, cycle_halfarcs = 0;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) halfarc_block_pairs += 2 * mesh.arc_blocks(a).size();
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) cycle_halfarcs += 2 * mesh.patch_cycle(p).size();
+  sorted_outgoing.Reserve(mesh.num_nodes(), mesh.num_halfarcs());
+  halfarc_blocks.Reserve(mesh.num_halfarcs(), halfarc_block_pairs);
+  fan_crossings.Reserve(slots.num_slots(), cycle_halfarcs);
+  critical_sides.Reserve(mesh.num_nodes(), 0);
+  side_slots.Reserve(mesh.num_halfpatches(), cycle_halfarcs);
+  crossing_rotation.reserve(mesh.num_halfpatches());
+  config_start_slot.reserve(configs.size());
   for (int i = 0; i < configs.size(); ++i) {
     config_start_slot.push_back(slots.Find(configs[i].start_block, configs[i].start_node));
   }
@@ -199,23 +253,15 @@ SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh),
     std::sort(outgoing.begin(), outgoing.end());
     sorted_outgoing.Append(outgoing);
   }
+  std::vector<BlockId> around;
   for (HalfarcId h = 0; h < mesh.num_halfarcs(); ++h) {
     halfarc_blocks.OpenList();
-    for (BlockId b : BlocksAroundHalfarc(mesh, h)) {
+    BlocksAroundHalfarc(mesh, h, &around);
+    for (BlockId b : around) {
       halfarc_blocks.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots.Find(b, mesh.head(h))});
     }
   }
-  for (SlotId s = 0; s < slots.num_slots(); ++s) {
-    const BlockId b = slots.block_of(s);
-    const NodeId n = slots.node_of(s);
-    const std::span<const HalfpatchId> at_node = mesh.node_halfpatches(n);
-    fan_crossings.OpenList();
-    for (HalfpatchId side : mesh.block_halfpatches(b)) {
-      if (!std::binary_search(at_node.begin(), at_node.end(), side)) continue;
-      const BlockId across = mesh.halfpatch_block(side ^ 1);
-      fan_crossings.PushToLast({side, across == kNoId ? kNoId : slots.Find(across, n)});
-    }
-  }
+  AddFanCrossings(mesh);
   for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
     critical_sides.OpenList();
     for (HalfpatchId g : mesh.node_halfpatches(n)) {
