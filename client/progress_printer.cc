@@ -22,6 +22,8 @@ const char* PhaseLabel(v1::Phase phase) {
       return "final";
     case v1::EXACT:
       return "exact";
+    case v1::LAYERS:
+      return "layers";
     default:
       return "starting";
   }

@@ -14,6 +14,8 @@ const char* QuantizationPhaseName(QuantizationPhase phase) {
       return "final";
     case QuantizationPhase::kExact:
       return "exact";
+    case QuantizationPhase::kLayers:
+      return "layers";
   }
   return "unknown";
 }

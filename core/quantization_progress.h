@@ -16,6 +16,7 @@ enum class QuantizationPhase : uint8_t {
   kFailsafe,    // the failsafe (non-negative rows only) separation mode of App. B
   kFinal,       // the last thorough greedy pass and the final checks
   kExact,       // exact mode: the MILP's branch and bound with its lazy separation loop
+  kLayers,      // the anytime start of large runs: a q traced from the parametrization's layers
 };
 
 const char* QuantizationPhaseName(QuantizationPhase phase);

@@ -41,6 +41,7 @@ struct QuantizeStats {
   double separation_search_seconds = 0;
   double separating_update_seconds = 0;
   double lower_bound_seconds = 0;  // the LP of the lower bound (ISP mode)
+  double layers_seconds = 0;       // tracing the layered start (IspTuning::layered_start_min_arcs)
   // Exact mode: MILP solves of the lazy loop, branch-and-bound nodes, incumbents checked by the
   // separation search, and the time after ISP.
   int64_t milp_solves = 0;

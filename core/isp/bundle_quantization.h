@@ -39,6 +39,8 @@ class BundleQuantization {
   int arc_count(BundleId b) const { return static_cast<int>(targets_[b].size()); }
   // Scaled targets s * l_a of the bundle's arcs.
   std::span<const double> targets(BundleId b) const { return targets_[b]; }
+  // Sum of the scaled targets of the bundle's arcs.
+  double target_sum(BundleId b) const { return target_sum_[b]; }
   // Mean target minus value: where the bundle alone would like to move, and how far.
   double mean_deviation(BundleId b) const {
     return target_sum_[b] / static_cast<double>(targets_[b].size()) -

@@ -11,6 +11,7 @@
 #include "core/consistency_matrix.h"
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/greedy_queue.h"
+#include "core/isp/layered_start.h"
 #include "core/isp/run_clock.h"
 #include "core/isp/separation_rows.h"
 #include "core/isp/sheet_coverage.h"
@@ -39,27 +40,39 @@ constexpr double kIdleSkipFraction = 0.05;
 constexpr int kMaxSeparationRounds = 500;
 constexpr int kMaxRepeatedSearches = 5000;
 
+// The mesh's structures (consistency rows, bundles, separation check) and the clock belong to
+// RunIntegerSheetPump, which builds them first so that the layered start can use them before the
+// engine builds its LPs; `start` is that start's q if it was valid.
 class IntegerSheetPump {
  public:
   IntegerSheetPump(const TMesh& mesh, const QuantizeOptions& options, const SheetLpFactory& new_lp,
-                   const IspTuning& tuning, ProgressObserver* observer,
-                   const SolveInterrupter* interrupter)
+                   const IspTuning& tuning, ProgressObserver* observer, RunClock& clock,
+                   const ConsistencyMatrix& consistency, const ArcBundles& bundles,
+                   BundleQuantization quantization, SeparationCheck& separation,
+                   const QuantizeStats& stats, std::optional<ValidStart> start)
       : options_(options),
         tuning_(tuning),
         observer_(observer),
-        clock_(interrupter, options.time_limit_seconds),
-        consistency_(mesh),
-        bundles_(mesh, consistency_),
-        quantization_(mesh, bundles_, options.scaling),
+        clock_(clock),
+        stats_(stats),
+        consistency_(consistency),
+        bundles_(bundles),
+        quantization_(std::move(quantization)),
         initial_subproblems_(mesh, consistency_, bundles_),
         rows_(mesh, bundles_, quantization_, options.per_arc_nonnegative),
         subproblems_(consistency_, bundles_, initial_subproblems_, quantization_, rows_.store(),
                      rows_.Floors(), mesh.num_arcs(), new_lp, options.decompose),
-        separation_(mesh, options.separation),
+        separation_(separation),
         steps_(quantization_, rows_.store(), tuning, clock_, stats_),
         queue_(quantization_, rows_.store()),
         thorough_queue_(quantization_, rows_.store()),
-        coverage_(quantization_.num_bundles()) {}
+        coverage_(quantization_.num_bundles()) {
+    if (start.has_value()) {
+      has_valid_ = true;
+      best_valid_objective_ = start->objective;
+      best_valid_values_ = std::move(start->values);
+    }
+  }
 
   absl::StatusOr<IspOutcome> Run();
 
@@ -99,21 +112,25 @@ class IntegerSheetPump {
 
   void Report(QuantizationPhase phase);
   void SaveIfBestValid();
+  // Whether the current q, if separating, would be the best valid q so far.
+  bool CurrentWouldBeBestValid() const {
+    return !has_valid_ || quantization_.objective() < best_valid_objective_;
+  }
   IspOutcome Finish();
 
   const QuantizeOptions& options_;
   const IspTuning& tuning_;
   ProgressObserver* observer_;
-  RunClock clock_;
+  RunClock& clock_;
   QuantizeStats stats_;
 
-  const ConsistencyMatrix consistency_;
-  const ArcBundles bundles_;
+  const ConsistencyMatrix& consistency_;
+  const ArcBundles& bundles_;
   BundleQuantization quantization_;
   const Subproblems initial_subproblems_;  // before separation rows couple any
   SeparationRows rows_;
   SubproblemSet subproblems_;
-  SeparationCheck separation_;
+  SeparationCheck& separation_;
   SheetStepFinder steps_;
   // The roots of ordinary and of thorough passes: each pass goes on from what changed since the
   // last pass of its kind (core/isp/greedy_queue.h).
@@ -208,10 +225,10 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
     if (!accepted) {
       ++skipped;
       // Anytime: a pass that improved and has then been idle as long as an idle pass may be is
-      // most likely converged; the rest of its stretch only confirms it. Until a valid q is
-      // known, probe this one now instead of after the stretch (on the 100k-arc part at level 5
-      // the stretch was 600 of the first descent's 1343 LP solves).
-      if (!has_valid_ && changed && !thorough && idle_skip_limit < skip_limit &&
+      // most likely converged; the rest of its stretch only confirms it. Unless a valid q at
+      // least as good is known, probe this one now instead of after the stretch (on the 100k-arc
+      // part at level 5 the stretch was 600 of the first descent's 1343 LP solves).
+      if (CurrentWouldBeBestValid() && changed && !thorough && idle_skip_limit < skip_limit &&
           static_cast<double>(skipped) == std::ceil(idle_skip_limit)) {
         ProbeSeparation();
       }
@@ -448,10 +465,9 @@ void IntegerSheetPump::Report(QuantizationPhase phase) {
 }
 
 void IntegerSheetPump::SaveIfBestValid() {
-  const double objective = quantization_.objective();
-  if (has_valid_ && objective >= best_valid_objective_) return;
+  if (!CurrentWouldBeBestValid()) return;
   has_valid_ = true;
-  best_valid_objective_ = objective;
+  best_valid_objective_ = quantization_.objective();
   best_valid_values_.assign(quantization_.values().begin(), quantization_.values().end());
 }
 
@@ -482,7 +498,19 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
                                                const SheetLpFactory& new_lp,
                                                const IspTuning& tuning, ProgressObserver* observer,
                                                const SolveInterrupter* interrupter) {
-  IntegerSheetPump pump(mesh, options, new_lp, tuning, observer, interrupter);
+  RunClock clock(interrupter, options.time_limit_seconds);
+  QuantizeStats stats;
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  BundleQuantization quantization(mesh, bundles, options.scaling);
+  SeparationCheck separation(mesh, options.separation);
+  std::optional<ValidStart> start;
+  if (mesh.num_arcs() >= tuning.layered_start_min_arcs) {
+    start = FindLayeredStart(mesh, consistency, bundles, quantization, separation, clock, stats,
+                             observer);
+  }
+  IntegerSheetPump pump(mesh, options, new_lp, tuning, observer, clock, consistency, bundles,
+                        std::move(quantization), separation, stats, std::move(start));
   return pump.Run();
 }
 

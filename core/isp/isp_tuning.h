@@ -83,6 +83,15 @@ struct IspTuning {
   // the whole mesh, 160 disjoint copies of s07c_notch took 884 rounds and 11.1 s instead of 6
   // rounds and 0.95 s (the shared set: 495 of 496 q identical, the other one no worse).
   int max_new_rows_per_search = 2;
+  // On meshes of at least this many arcs, the run first traces the layered start
+  // (core/isp/layered_start.h): a q >= 1 on every arc, reported at once (phase LAYERS) if the
+  // search finds it separating, and the result if the run finds no better valid q (a run stopped
+  // early returns it). The ISP path is unchanged: it still starts from q = 0. On the single-part
+  // scaling meshes the first valid q then comes after 16-20% of the solve at 10k arcs, 9-11% at
+  // 30k and 3-5% at 100k (before: 22-58%, 32-66%, 32-53%), the layers themselves taking 4, 12
+  // and 40-50 ms. Below the threshold a whole run takes hundredths of a second: with 0, the
+  // shared instances end with the same q and LP solves in 3% more CPU time (ispq_tuning_bench).
+  int layered_start_min_arcs = 2000;
 };
 
 }  // namespace ispq

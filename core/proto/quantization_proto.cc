@@ -19,6 +19,8 @@ v1::Phase PhaseToProto(QuantizationPhase phase) {
       return v1::FINAL;
     case QuantizationPhase::kExact:
       return v1::EXACT;
+    case QuantizationPhase::kLayers:
+      return v1::LAYERS;
   }
   return v1::PHASE_UNSPECIFIED;
 }
@@ -120,6 +122,7 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   stats->set_separation_rows(s.separation_rows);
   stats->set_subproblems(s.subproblems);
   stats->set_greedy_seconds(s.greedy_seconds);
+  stats->set_layers_seconds(s.layers_seconds);
   stats->set_separation_search_seconds(s.separation_search_seconds);
   stats->set_separating_update_seconds(s.separating_update_seconds);
   stats->set_solve_seconds(s.solve_seconds);

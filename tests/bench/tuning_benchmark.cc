@@ -101,6 +101,7 @@ int Run() {
       {"max_new_rows_per_search=all", [](IspTuning& t) { t.max_new_rows_per_search = 1 << 30; }},
       {"max_new_rows_per_search=1", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
       {"away_checks_max_bundles=0", [](IspTuning& t) { t.away_checks_max_bundles = 0; }},
+      {"layered_start_min_arcs=0", [](IspTuning& t) { t.layered_start_min_arcs = 0; }},
   };
   std::printf("%-36s %5s %7s %10s %10s %9s %10s %8s\n", "variant", "runs", "invalid", "mean ratio",
               "sum ratio", "vs dflt", "LP solves", "cpu s");

@@ -49,6 +49,7 @@ v1::QuantizationResult WithoutTimings(v1::QuantizationResult result) {
   stats->clear_solve_seconds();
   stats->clear_lower_bound_seconds();
   stats->clear_exact_seconds();
+  stats->clear_layers_seconds();
   return result;
 }
 

@@ -13,6 +13,7 @@
 
 #include "core/isp/clp_sheet_lp.h"
 #include "core/proto/tmesh_file.h"
+#include "core/quantization_objective.h"
 #include "core/quantization_validator.h"
 #include "gtest/gtest.h"
 #include "tests/bench/large/large_tmesh_generator.h"
@@ -255,6 +256,68 @@ TEST(IntegerSheetPumpTest, AValidQALeftBySeparatingUpdateIsReportedBeforeTheNext
   EXPECT_TRUE(std::any_of(first_valid, final_pass, [](const ProgressEvent& e) {
     return e.phase == QuantizationPhase::kGreedy;
   })) << "no descent followed the first valid q before the final pass";
+}
+
+// Records the q of every event as well.
+class QuantizationLog : public EventLog {
+ public:
+  bool WantsQuantization() const override { return true; }
+  void OnProgress(const ProgressEvent& event) override {
+    EventLog::OnProgress(event);
+    qs.emplace_back(event.q.begin(), event.q.end());
+  }
+  std::vector<std::vector<int64_t>> qs;
+};
+
+// The layered start on the synthetic part (1000 arcs; the threshold lowered to reach it): its q
+// is the first event, separating and valid by the validator, and the run that follows ends with
+// the same q as a run without it, since ISP still starts from q = 0.
+TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning layered;
+    layered.layered_start_min_arcs = 0;
+    QuantizationLog log;
+    const absl::StatusOr<IspOutcome> with =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), layered, &log, nullptr);
+    ASSERT_TRUE(with.ok()) << with.status();
+    ExpectSeparatingAndValid(mesh, *with);
+    ASSERT_FALSE(log.events.empty());
+    EXPECT_EQ(log.events.front().phase, QuantizationPhase::kLayers);
+    EXPECT_TRUE(log.events.front().separating);
+    const std::vector<int64_t>& first = log.qs.front();
+    EXPECT_TRUE(std::all_of(first.begin(), first.end(), [](int64_t x) { return x >= 1; }));
+    const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, first);
+    ASSERT_TRUE(report.ok());
+    EXPECT_TRUE(report->valid()) << report->Describe();
+    EXPECT_GE(log.events.front().objective, QuantizationObjective(mesh, with->q, options.scaling));
+
+    IspTuning without;
+    without.layered_start_min_arcs = std::numeric_limits<int>::max();
+    EventLog plain;
+    const absl::StatusOr<IspOutcome> alone =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), without, &plain, nullptr);
+    ASSERT_TRUE(alone.ok()) << alone.status();
+    EXPECT_EQ(with->q, alone->q) << "level " << level;
+    EXPECT_NE(plain.events.front().phase, QuantizationPhase::kLayers);
+  }
+}
+
+// A run stopped before its first descent found anything still returns a valid q: the layered one.
+TEST(IntegerSheetPumpTest, ARunStoppedAtOnceReturnsTheLayeredQ) {
+  const TMesh mesh = SyntheticPart();
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  options.time_limit_seconds = 0;
+  IspTuning layered;
+  layered.layered_start_min_arcs = 0;
+  const absl::StatusOr<IspOutcome> outcome =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), layered, nullptr, nullptr);
+  ASSERT_TRUE(outcome.ok()) << outcome.status();
+  EXPECT_EQ(outcome->termination, Termination::kTimeLimit);
+  ExpectSeparatingAndValid(mesh, *outcome);
 }
 
 }  // namespace

@@ -406,6 +406,7 @@ TEST(QuantizerTest, NamesAreStable) {
   EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kSeparation), "separation");
   EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kFailsafe), "failsafe");
   EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kFinal), "final");
+  EXPECT_STREQ(QuantizationPhaseName(QuantizationPhase::kLayers), "layers");
 }
 
 }  // namespace

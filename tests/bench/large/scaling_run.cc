@@ -8,7 +8,8 @@
 // rounds and rows, subproblems, objective, validity (the validator's verdict), the CPU seconds
 // and objective at the first separating q (the first valid intermediate result a client gets),
 // the peak resident memory (VmHWM, MiB) of the solve at the end of the first greedy descent, at the
-// first separating q and at the end, and the peak of loading the mesh file before it.
+// first separating q and at the end, the peak of loading the mesh file before it, and the CPU
+// seconds of tracing the layered start (core/isp/parametric_layers.h).
 //
 // Loading parses the file into protobuf messages, whose peak on a large mesh is above anything the
 // solve needs; so after loading, the freed memory is returned to the system (malloc_trim) and
@@ -69,7 +70,12 @@ class RunWatcher : public ProgressObserver {
   void OnProgress(const ProgressEvent& event) override {
     const double cpu = ThreadCpuSeconds() - cpu_start_;
     if (timeline_) PrintEvent(cpu, event);
-    if (greedy_rss_ < 0 && event.phase != QuantizationPhase::kGreedy) greedy_rss_ = PeakRssMib();
+    if (event.phase == QuantizationPhase::kGreedy) {
+      in_first_descent_ = greedy_rss_ < 0;
+    } else if (in_first_descent_) {
+      greedy_rss_ = PeakRssMib();
+      in_first_descent_ = false;
+    }
     if (event.separating && first_separating_cpu_ < 0) {
       first_separating_cpu_ = cpu;
       first_separating_objective_ = event.objective;
@@ -93,6 +99,7 @@ class RunWatcher : public ProgressObserver {
 
   double cpu_start_;
   bool timeline_;
+  bool in_first_descent_ = false;
 };
 
 int Run() {
@@ -125,18 +132,18 @@ int Run() {
         "arcs\tlevel\tcpu_s\tgreedy_cpu_s\tsearch_cpu_s\tseparating_cpu_s\tlp_solves\t"
         "sep_rounds\tsep_rows\tsubproblems\tobjective\tvalid\ttermination\t"
         "first_separating_cpu_s\tfirst_separating_objective\tgreedy_rss_mib\t"
-        "first_separating_rss_mib\tpeak_rss_mib\tload_peak_rss_mib\n");
+        "first_separating_rss_mib\tpeak_rss_mib\tload_peak_rss_mib\tlayers_cpu_s\n");
   }
   const QuantizeStats& s = result->stats;
   std::printf(
       "%d\t%d\t%.4f\t%.4f\t%.4f\t%.4f\t%lld\t%lld\t%lld\t%d\t%.6f\t%d\t%s\t%.4f\t%.6f\t%.1f\t%."
-      "1f\t%.1f\t%.1f\n",
+      "1f\t%.1f\t%.1f\t%.4f\n",
       mesh.num_arcs(), absl::GetFlag(FLAGS_level), cpu, s.greedy_seconds,
       s.separation_search_seconds, s.separating_update_seconds, static_cast<long long>(s.lp_solves),
       static_cast<long long>(s.separation_rounds), static_cast<long long>(s.separation_rows),
       s.subproblems, result->objective, valid ? 1 : 0, TerminationName(result->termination),
       watcher.first_separating_cpu_, watcher.first_separating_objective_, watcher.greedy_rss_,
-      watcher.first_separating_rss_, PeakRssMib(), load_peak_rss);
+      watcher.first_separating_rss_, PeakRssMib(), load_peak_rss, s.layers_seconds);
   return valid ? 0 : 3;
 }
 

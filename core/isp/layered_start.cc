@@ -1,0 +1,46 @@
+#include "core/isp/layered_start.h"
+
+#include "core/isp/parametric_layers.h"
+
+namespace ispq {
+
+std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyMatrix& consistency,
+                                           const ArcBundles& bundles,
+                                           const BundleQuantization& quantization,
+                                           SeparationCheck& separation, const RunClock& clock,
+                                           QuantizeStats& stats, ProgressObserver* observer) {
+  std::optional<std::vector<int64_t>> values;
+  {
+    ScopedCpuSeconds timer(&stats.layers_seconds);
+    values = QuantizeByParametricLayers(mesh, bundles, quantization);
+  }
+  if (!values.has_value()) return std::nullopt;
+  BundleQuantization layered = quantization;
+  layered.SetValues(*values);
+  const std::vector<int64_t> q = layered.ArcValues();
+  for (int r = 0; r < consistency.num_rows(); ++r) {
+    if (consistency.RowValue(r, q) != 0) return std::nullopt;
+  }
+  // Every arc is at least 1, so the simple rows hold; the search decides separation.
+  {
+    ScopedCpuSeconds timer(&stats.separation_search_seconds);
+    if (separation.FindFirstViolations(q, [](SeparationViolation&) { return false; }) > 0) {
+      return std::nullopt;
+    }
+  }
+  if (observer != nullptr) {
+    ProgressEvent event;
+    event.phase = QuantizationPhase::kLayers;
+    event.iteration = 0;
+    event.separation_round = 0;
+    event.objective = layered.objective();
+    event.violated_constraints = 0;
+    event.separating = true;
+    event.elapsed_seconds = clock.ElapsedSeconds();
+    if (observer->WantsQuantization()) event.q = q;
+    observer->OnProgress(event);
+  }
+  return ValidStart{std::move(*values), layered.objective()};
+}
+
+}  // namespace ispq
