@@ -11,7 +11,7 @@ memory at the first separating q, peak memory) and writes
                       sizes from 1k to 100k arcs) of the total and of every phase, the largest
                       size solved within 60 s CPU, peak memory per arc
   OUT/scaling.png     log-log plots: CPU time per family and level, per phase, the first
-                      separating q against the whole solve, peak memory per arc
+                      separating q as a share of the whole solve, peak memory per arc
 
 Run by hand (it takes long; not part of the test command), e.g.
 
@@ -38,7 +38,18 @@ import sys
 FAMILIES = ["single", "slabs", "rotated"]
 LEVELS = [5, 25, 100]
 PHASES = [("cpu_s", "total"), ("greedy_cpu_s", "greedy"), ("search_cpu_s", "separation search"),
-          ("separating_cpu_s", "separating updates")]
+          ("separating_cpu_s", "separating updates"), ("layers_cpu_s", "layered start")]
+
+
+def seconds(row, key):
+    """A CPU column, 0 for rows written before the column existed."""
+    return float(row.get(key) or 0)
+
+
+def first_share(row):
+    """Share of the solve's CPU time before the first separating q, or None if none came."""
+    first, cpu = float(row["first_separating_cpu_s"]), float(row["cpu_s"])
+    return first / cpu if first >= 0 and cpu > 0 else None
 
 
 def build_dir():
@@ -87,21 +98,31 @@ def bytes_per_arc(row, key):
 def write_markdown(rows, path, fit_range, baseline=None):
     lo, hi = fit_range
     with open(path, "w") as out:
-        out.write("| family | arcs | level | CPU s | greedy | search | separating | LP solves "
-                  "| first separating q (CPU s, share) | objective | valid "
-                  "| solve peak RSS B/arc | load peak RSS B/arc |\n")
-        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+        out.write("| family | arcs | level | CPU s | greedy | search | separating | layers "
+                  "| LP solves | first separating q (CPU s, share, objective / final) "
+                  "| objective | valid | solve peak RSS B/arc | load peak RSS B/arc |\n")
+        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             cpu = float(r["cpu_s"])
-            first = float(r["first_separating_cpu_s"])
-            share = f"{first:.2f} ({100 * first / cpu:.0f}%)" if first >= 0 and cpu > 0 else "-"
+            first, share = float(r["first_separating_cpu_s"]), first_share(r)
+            first_objective = float(r["first_separating_objective"]) / float(r["objective"]) \
+                if float(r["objective"]) > 0 else 1
+            first_cell = "-" if share is None else \
+                f"{first:.2f} ({100 * share:.0f}%, {first_objective:.2f}x)"
             load = bytes_per_arc(r, "load_peak_rss_mib")
             out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {cpu:.2f} | "
-                      f"{float(r['greedy_cpu_s']):.2f} | {float(r['search_cpu_s']):.2f} | "
-                      f"{float(r['separating_cpu_s']):.2f} | {r['lp_solves']} | {share} | "
+                      f"{seconds(r, 'greedy_cpu_s'):.2f} | {seconds(r, 'search_cpu_s'):.2f} | "
+                      f"{seconds(r, 'separating_cpu_s'):.2f} | {seconds(r, 'layers_cpu_s'):.3f} | "
+                      f"{r['lp_solves']} | {first_cell} | "
                       f"{float(r['objective']):.1f} | {r['valid']} {r['termination']} | "
                       f"{bytes_per_arc(r, 'peak_rss_mib'):.0f} | "
                       f"{'-' if load is None else f'{load:.0f}'} |\n")
+        large = [first_share(r) for r in rows if int(r["arcs"]) >= 10000]
+        if large:
+            late = sum(s is None or s > 0.1 for s in large)
+            worst = max((s for s in large if s is not None), default=float("nan"))
+            out.write(f"\nFirst separating q on the {len(large)} runs of 10k arcs or more: at most "
+                      f"{100 * worst:.1f}% of the solve's CPU time; {late} runs above 10%.\n")
         if baseline:
             write_comparison(rows, baseline, out)
         out.write(f"\nGrowth exponents (CPU time ~ arcs^k, fitted over {lo}..{hi} arcs):\n\n")
@@ -113,7 +134,7 @@ def write_markdown(rows, path, fit_range, baseline=None):
                        and lo <= int(r["arcs"]) <= hi and r["termination"] == "converged"]
                 if not sel:
                     continue
-                ks = [fit_exponent([(int(r["arcs"]), float(r[key])) for r in sel])
+                ks = [fit_exponent([(int(r["arcs"]), seconds(r, key)) for r in sel])
                       for key, _ in PHASES]
                 out.write(f"| {family} | {level} | " + " | ".join(f"{k:.2f}" for k in ks) + " |\n")
         out.write("\nLargest mesh solved within 60 s CPU, per family and level:\n\n")
@@ -130,8 +151,9 @@ def write_comparison(rows, baseline, out):
     """CPU and objective of every run against the same family, size and level in `baseline`."""
     before = {(r["family"], r["arcs"], r["level"]): r for r in baseline}
     out.write("\nAgainst the baseline (same meshes; objective ratio after / before):\n\n")
-    out.write("| family | arcs | level | CPU s before | CPU s after | objective ratio |\n")
-    out.write("|---|---|---|---|---|---|\n")
+    out.write("| family | arcs | level | CPU s before | CPU s after | first separating q before "
+              "| after | objective ratio |\n")
+    out.write("|---|---|---|---|---|---|---|---|\n")
     ratios = []
     for r in rows:
         b = before.get((r["family"], r["arcs"], r["level"]))
@@ -140,7 +162,8 @@ def write_comparison(rows, baseline, out):
         ratio = float(r["objective"]) / float(b["objective"])
         ratios.append(ratio)
         out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {float(b['cpu_s']):.2f} | "
-                  f"{float(r['cpu_s']):.2f} | {ratio:.5f} |\n")
+                  f"{float(r['cpu_s']):.2f} | {float(b['first_separating_cpu_s']):.2f} | "
+                  f"{float(r['first_separating_cpu_s']):.2f} | {ratio:.5f} |\n")
     if ratios:
         worse = sum(x > 1 + 1e-9 for x in ratios)
         better = sum(x < 1 - 1e-9 for x in ratios)
@@ -167,23 +190,22 @@ def plot(rows, path):
     ax.set_title("CPU time of the whole solve")
     ax = axes[0][1]
     for key, name in PHASES[1:]:
-        sel = sorted((int(r["arcs"]), max(float(r[key]), 1e-4)) for r in rows
+        sel = sorted((int(r["arcs"]), max(seconds(r, key), 1e-4)) for r in rows
                      if r["family"] == "single" and int(r["level"]) == 100)
         if sel:
             ax.plot(*zip(*sel), marker="o", label=name)
     ax.set_title("CPU time per phase (single, level 100)")
     ax = axes[1][0]
     for family in FAMILIES:
-        sel = sorted((int(r["arcs"]), float(r["first_separating_cpu_s"])) for r in rows
-                     if r["family"] == family and int(r["level"]) == 100 and
-                     float(r["first_separating_cpu_s"]) > 0)
-        if sel:
-            ax.plot(*zip(*sel), "--", marker="s", color=colors[family], label=f"{family}: first")
-        sel = sorted((int(r["arcs"]), float(r["cpu_s"])) for r in rows
-                     if r["family"] == family and int(r["level"]) == 100)
-        if sel:
-            ax.plot(*zip(*sel), "-", marker="o", color=colors[family], label=f"{family}: final")
-    ax.set_title("First separating q and final q, CPU s (level 100)")
+        for level in LEVELS:
+            sel = sorted((int(r["arcs"]), 100 * first_share(r)) for r in rows
+                         if r["family"] == family and int(r["level"]) == level and
+                         first_share(r))
+            if sel:
+                ax.plot(*zip(*sel), styles[level], marker="s", color=colors[family],
+                        label=f"{family} L{level}")
+    ax.axhline(10, color="gray", linewidth=1)
+    ax.set_title("First separating q, % of the solve's CPU time")
     ax = axes[1][1]
     for family in FAMILIES:
         sel = sorted((int(r["arcs"]), bytes_per_arc(r, "peak_rss_mib"))
@@ -203,6 +225,8 @@ def plot(rows, path):
             ax.set_xlabel("arcs")
             ax.grid(True, which="both", alpha=0.3)
             ax.legend(fontsize=7)
+    axes[1][0].set_yscale("linear")
+    axes[1][0].set_ylim(0, 100)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
 
