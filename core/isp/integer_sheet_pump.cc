@@ -506,8 +506,8 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
   SeparationCheck separation(mesh, options.separation);
   std::optional<ValidStart> start;
   if (mesh.num_arcs() >= tuning.layered_start_min_arcs) {
-    start = FindLayeredStart(mesh, consistency, bundles, quantization, separation, clock, stats,
-                             observer);
+    start = FindLayeredStart(mesh, consistency, bundles, quantization, options.scaling, separation,
+                             clock, stats, observer);
   }
   IntegerSheetPump pump(mesh, options, new_lp, tuning, observer, clock, consistency, bundles,
                         std::move(quantization), separation, stats, std::move(start));

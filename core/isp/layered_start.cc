@@ -1,12 +1,13 @@
 #include "core/isp/layered_start.h"
 
 #include "core/isp/parametric_layers.h"
+#include "core/quantization_objective.h"
 
 namespace ispq {
 
 std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyMatrix& consistency,
                                            const ArcBundles& bundles,
-                                           const BundleQuantization& quantization,
+                                           const BundleQuantization& quantization, double scaling,
                                            SeparationCheck& separation, const RunClock& clock,
                                            QuantizeStats& stats, ProgressObserver* observer) {
   std::optional<std::vector<int64_t>> values;
@@ -15,9 +16,11 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
     values = QuantizeByParametricLayers(mesh, bundles, quantization);
   }
   if (!values.has_value()) return std::nullopt;
-  BundleQuantization layered = quantization;
-  layered.SetValues(*values);
-  const std::vector<int64_t> q = layered.ArcValues();
+  std::vector<int64_t> q(mesh.num_arcs());
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    q[a] = (*values)[bundles.bundle_of(a)];
+    if (q[a] < 1) return std::nullopt;
+  }
   for (int r = 0; r < consistency.num_rows(); ++r) {
     if (consistency.RowValue(r, q) != 0) return std::nullopt;
   }
@@ -28,19 +31,20 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
       return std::nullopt;
     }
   }
+  const double objective = QuantizationObjective(mesh, q, scaling);
   if (observer != nullptr) {
     ProgressEvent event;
     event.phase = QuantizationPhase::kLayers;
     event.iteration = 0;
     event.separation_round = 0;
-    event.objective = layered.objective();
+    event.objective = objective;
     event.violated_constraints = 0;
     event.separating = true;
     event.elapsed_seconds = clock.ElapsedSeconds();
     if (observer->WantsQuantization()) event.q = q;
     observer->OnProgress(event);
   }
-  return ValidStart{std::move(*values), layered.objective()};
+  return ValidStart{std::move(*values), objective};
 }
 
 }  // namespace ispq

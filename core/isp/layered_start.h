@@ -27,11 +27,11 @@ struct ValidStart {
 };
 
 // The layered q if it is consistent and `separation` finds nothing, reported to `observer` (may
-// be null); nullopt otherwise. `quantization` holds the targets and is left as it was. Adds the
+// be null); nullopt otherwise. `quantization` holds the targets s * l of `scaling`. Adds the
 // tracing time to stats.layers_seconds and the search's to stats.separation_search_seconds.
 std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyMatrix& consistency,
                                            const ArcBundles& bundles,
-                                           const BundleQuantization& quantization,
+                                           const BundleQuantization& quantization, double scaling,
                                            SeparationCheck& separation, const RunClock& clock,
                                            QuantizeStats& stats, ProgressObserver* observer);
 
