@@ -87,10 +87,11 @@ struct IspTuning {
   // (core/isp/layered_start.h): a q >= 1 on every arc, reported at once (phase LAYERS) if the
   // search finds it separating, and the result if the run finds no better valid q (a run stopped
   // early returns it). The ISP path is unchanged: it still starts from q = 0. On the single-part
-  // scaling meshes the first valid q then comes after 16-20% of the solve at 10k arcs, 9-11% at
-  // 30k and 3-5% at 100k (before: 22-58%, 32-66%, 32-53%), the layers themselves taking 4, 12
-  // and 40-50 ms. Below the threshold a whole run takes hundredths of a second: with 0, the
-  // shared instances end with the same q and LP solves in 3% more CPU time (ispq_tuning_bench).
+  // scaling meshes the first valid q then comes after 15-20% of the solve at 10k arcs, 9-14% at
+  // 30k, 3-5% at 100k and 1-2% at 200k (before: 44-58%, 32-66%, 32-53%, 22-55%), the layers
+  // themselves taking 4, 15, 54 and 114-157 ms; side by side a run takes 1.00-1.04x the CPU.
+  // Below the threshold a whole run takes hundredths of a second: with 0, the shared instances
+  // end with the same q and LP solves in 3% more CPU time (ispq_tuning_bench).
   int layered_start_min_arcs = 2000;
 };
 
