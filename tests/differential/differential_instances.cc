@@ -6,12 +6,16 @@
 //                 whose q changed, and every one whose q the pump itself calls separating);
 //   perturbed     a final q plus a small random consistent change (a few free arcs of the
 //                 consistency system moved by -1..+1), which mostly keeps the simple rows and
-//                 often breaks separation.
+//                 often breaks separation;
+//   layered       the q of the parametrization's layers at the scaling
+//   (core/isp/parametric_layers.h),
+//                 which large runs report as their first valid q, where the layers close.
 // Deterministic for a given seed.
 #include <cmath>
 #include <cstdint>
 #include <iomanip>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -19,6 +23,10 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/strings/str_join.h"
+#include "core/arc_bundles.h"
+#include "core/consistency_matrix.h"
+#include "core/isp/bundle_quantization.h"
+#include "core/isp/parametric_layers.h"
 #include "core/proto/tmesh_file.h"
 #include "core/proto/tmesh_from_proto.h"
 #include "core/quantizer.h"
@@ -79,7 +87,16 @@ int Run() {
 
   const testing::ConsistentQuantizations consistent(*mesh);
   const std::span<const ArcId> free_arcs = consistent.free_arcs();
+  const ConsistencyMatrix consistency(*mesh);
+  const ArcBundles bundles(*mesh, consistency);
   for (double scaling : scalings) {
+    const std::optional<std::vector<int64_t>> layered =
+        QuantizeByParametricLayers(*mesh, bundles, BundleQuantization(*mesh, bundles, scaling));
+    if (layered.has_value()) {
+      std::vector<int64_t> q(mesh->num_arcs());
+      for (ArcId a = 0; a < mesh->num_arcs(); ++a) q[a] = (*layered)[bundles.bundle_of(a)];
+      Emit("layered", scaling, q);
+    }
     QuantizeOptions options;
     options.scaling = scaling;
     IterateSampler sampler(absl::GetFlag(FLAGS_intermediate_stride));
