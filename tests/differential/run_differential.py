@@ -3,7 +3,7 @@
 
 For every T-mesh given, ispq_differential_instances writes many quantizations (ISP results at
 the 8 levels and at random scalings, ISP's intermediate iterates, random consistent
-perturbations). Each q is then judged three times:
+perturbations, the layered q of core/isp/parametric_layers.h). Each q is then judged three times:
 
   ours      the product's verdict (ispq_separation_dump: consistency, simple rows, both searches)
   ours_ref  our search in reference-compatibility mode alone (unsorted block boxes)
