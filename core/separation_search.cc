@@ -133,7 +133,9 @@ void SeparationSearchTables::AddFanCrossings(const TMesh& mesh) {
     for (const HalfpatchId side : mesh.block_halfpatches(b)) {
       for (int i = 0; i < mesh.halfpatch_cycle_size(side); ++i) {
         const int32_t local = local_of_node[mesh.tail(mesh.HalfpatchCycleAt(side, i))];
-        if (last_side[local] == side) continue;
+        // A validated block owns every node of its sides' cycles; anything else is skipped, as
+        // a lookup of the slot would skip it.
+        if (local < 0 || last_side[local] == side) continue;
         last_side[local] = side;
         visit(local, side);
       }
