@@ -1,8 +1,9 @@
 // The anytime start of a large ISP run (IspTuning::layered_start_min_arcs): the q of the
 // parametrization's layers (core/isp/parametric_layers.h), checked for consistency and by the
 // run's separation check, and reported as its first valid q (phase LAYERS) before the engine
-// builds its LPs. On a 100k-arc part that is 0.3-0.5 s into a run of 5-12 s; the ISP path that
-// follows starts from q = 0 as always, and only replaces this q once it finds a better valid one.
+// builds its LPs. On a 100k-arc part that is 0.3-0.45 s CPU into a run of 2.3-10 s; the ISP
+// path that follows starts from q = 0 as always, and only replaces this q once it finds a better
+// valid one.
 #ifndef ISPQ_CORE_ISP_LAYERED_START_H_
 #define ISPQ_CORE_ISP_LAYERED_START_H_
 
