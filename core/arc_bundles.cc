@@ -30,6 +30,12 @@ ArcBundles::ArcBundles(const TMesh& mesh, const ConsistencyMatrix& consistency) 
   for (const auto& list : members) arcs_.Append(list);
 }
 
+std::vector<int64_t> ArcBundles::ArcValues(std::span<const int64_t> bundle_values) const {
+  std::vector<int64_t> q(bundle_of_arc_.size());
+  for (size_t a = 0; a < q.size(); ++a) q[a] = bundle_values[bundle_of_arc_[a]];
+  return q;
+}
+
 std::vector<LinearTerm> ArcBundles::ToBundleTerms(std::span<const LinearTerm> arc_terms) const {
   std::vector<LinearTerm> terms;
   terms.reserve(arc_terms.size());

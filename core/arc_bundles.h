@@ -28,6 +28,9 @@ class ArcBundles {
   // Arcs of a bundle, ascending. Bundles are numbered by their smallest arc.
   std::span<const ArcId> arcs(BundleId b) const { return arcs_[b]; }
 
+  // q per arc from one value per bundle.
+  std::vector<int64_t> ArcValues(std::span<const int64_t> bundle_values) const;
+
   // A row over arcs rewritten over bundles (coefficients of a bundle's arcs added up, zero
   // coefficients dropped), sorted by bundle id.
   std::vector<LinearTerm> ToBundleTerms(std::span<const LinearTerm> arc_terms) const;

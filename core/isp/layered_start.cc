@@ -16,10 +16,9 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
     values = QuantizeByParametricLayers(mesh, bundles, quantization);
   }
   if (!values.has_value()) return std::nullopt;
-  std::vector<int64_t> q(mesh.num_arcs());
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    q[a] = (*values)[bundles.bundle_of(a)];
-    if (q[a] < 1) return std::nullopt;
+  const std::vector<int64_t> q = bundles.ArcValues(*values);
+  for (const int64_t x : q) {
+    if (x < 1) return std::nullopt;
   }
   for (int r = 0; r < consistency.num_rows(); ++r) {
     if (consistency.RowValue(r, q) != 0) return std::nullopt;

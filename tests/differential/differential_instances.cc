@@ -92,11 +92,7 @@ int Run() {
   for (double scaling : scalings) {
     const std::optional<std::vector<int64_t>> layered =
         QuantizeByParametricLayers(*mesh, bundles, BundleQuantization(*mesh, bundles, scaling));
-    if (layered.has_value()) {
-      std::vector<int64_t> q(mesh->num_arcs());
-      for (ArcId a = 0; a < mesh->num_arcs(); ++a) q[a] = (*layered)[bundles.bundle_of(a)];
-      Emit("layered", scaling, q);
-    }
+    if (layered.has_value()) Emit("layered", scaling, bundles.ArcValues(*layered));
     QuantizeOptions options;
     options.scaling = scaling;
     IterateSampler sampler(absl::GetFlag(FLAGS_intermediate_stride));

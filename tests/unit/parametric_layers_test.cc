@@ -20,13 +20,6 @@ using ::ispq::testing::LoadTMeshOrDie;
 using ::ispq::testing::SharedTMeshFiles;
 using ::ispq::testing::ShortName;
 
-std::vector<int64_t> ArcValues(const ArcBundles& bundles, const std::vector<int64_t>& values,
-                               int num_arcs) {
-  std::vector<int64_t> q(num_arcs);
-  for (ArcId a = 0; a < num_arcs; ++a) q[a] = values[bundles.bundle_of(a)];
-  return q;
-}
-
 // Expects a layered q on `mesh` at every level; returns false if the layers did not close.
 bool ExpectValidLayeredQuantization(const TMesh& mesh, const std::string& name) {
   const ConsistencyMatrix consistency(mesh);
@@ -36,7 +29,7 @@ bool ExpectValidLayeredQuantization(const TMesh& mesh, const std::string& name) 
     const std::optional<std::vector<int64_t>> values =
         QuantizeByParametricLayers(mesh, bundles, quantization);
     if (!values.has_value()) return false;
-    const std::vector<int64_t> q = ArcValues(bundles, *values, mesh.num_arcs());
+    const std::vector<int64_t> q = bundles.ArcValues(*values);
     for (ArcId a = 0; a < mesh.num_arcs(); ++a) EXPECT_GE(q[a], 1) << name << " arc " << a;
     const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, q);
     EXPECT_TRUE(report.ok() && report->valid())
