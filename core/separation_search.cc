@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <memory>
 #include <utility>
 
 #include "core/block_node_positions.h"
@@ -163,11 +164,47 @@ void SeparationSearchTables::AddFanCrossings(const TMesh& mesh) {
   }
 }
 
+// The buffers of one call, sized by the mesh and rewritten by every call: nothing in them
+// outlives a call, so the two searches of core/separation_check.h, which run one after the
+// other on one thread, share one set. On a large mesh they are as big as the tables, and
+// first touching fresh pages is most of what building a search costs.
+struct SeparationSearchScratch {
+  explicit SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh);
+
+  std::vector<IntVec3> positions;
+  std::vector<IntBox> side_boxes;
+  std::vector<Walk> arena;
+  std::vector<QueueEntry> queue;
+  StampedSet seen_pre, seen_post, branch_offs, pre_branch_arcs, in_fan;
+  std::vector<Rotation> fan_rotation, fan_to_reference;
+  std::vector<SlotId> fan_slot;
+  std::vector<int8_t> fan_admissible;
+  std::vector<BlockId> fan_order;
+  std::vector<Candidate> candidates;
+  std::vector<int32_t> fan_entries;
+  std::array<std::vector<ArcId>, kNumDirs> walked_arcs;
+};
+
+SeparationSearchScratch::SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh)
+    : positions(slots.num_slots()),
+      side_boxes(mesh.num_halfpatches()),
+      fan_rotation(mesh.num_blocks()),
+      fan_to_reference(mesh.num_blocks()),
+      fan_slot(mesh.num_blocks()),
+      fan_admissible(mesh.num_blocks()) {
+  seen_pre.Resize(mesh.num_nodes());
+  seen_post.Resize(mesh.num_nodes());
+  branch_offs.Resize(mesh.num_halfarcs());
+  pre_branch_arcs.Resize(mesh.num_arcs());
+  in_fan.Resize(mesh.num_blocks());
+}
+
 class SeparationSearch::Impl {
  public:
   Impl(const TMesh& mesh, std::shared_ptr<const SeparationSearchTables> tables,
-       SeparationSearchOptions options);
+       std::shared_ptr<SeparationSearchScratch> scratch, SeparationSearchOptions options);
   const std::shared_ptr<const SeparationSearchTables>& tables() const { return tables_; }
+  const std::shared_ptr<SeparationSearchScratch>& scratch() const { return scratch_; }
 
   int64_t FindViolations(std::span<const int64_t> q,
                          const std::function<bool(SeparationViolation&)>& sink);
@@ -209,30 +246,32 @@ class SeparationSearch::Impl {
   const FlatLists<SlotId>& side_slots_;
   const std::vector<Rotation>& crossing_rotation_;
 
+  // Buffers, possibly shared with another search of the mesh; the references name their parts.
+  const std::shared_ptr<SeparationSearchScratch> scratch_;
   // Geometry of the current q (section 6.3).
-  std::vector<IntVec3> positions_;  // per slot
-  std::vector<IntBox> side_boxes_;  // per owned halfpatch side, in the owner's frame
+  std::vector<IntVec3>& positions_;  // per slot
+  std::vector<IntBox>& side_boxes_;  // per owned halfpatch side, in the owner's frame
 
-  // Scratch of the current search.
+  // State of the current search.
   IntBox box_{};
   DirSet link_axis_ = 0;
-  std::vector<Walk> arena_;
-  std::vector<QueueEntry> queue_;
-  int hopeful_in_queue_ = 0;         // queued walks that are not hopeless
-  int64_t negative_slack_ = 0;       // sum of -q_a over the arcs with q_a < 0
-  StampedSet seen_pre_, seen_post_;  // over nodes
-  StampedSet branch_offs_;           // over halfarcs
-  StampedSet pre_branch_arcs_;       // over arcs
-  // Scratch of the current pop: the fan over blocks and the candidates.
-  StampedSet in_fan_;
-  std::vector<Rotation> fan_rotation_;      // M_b
-  std::vector<Rotation> fan_to_reference_;  // M_b^-1
-  std::vector<SlotId> fan_slot_;            // (b, current node)
-  std::vector<int8_t> fan_admissible_;      // -1 not evaluated yet at this node, else 0 or 1
-  std::vector<BlockId> fan_order_;
-  std::vector<Candidate> candidates_;
-  std::vector<int32_t> fan_entries_;  // indices into halfarc_blocks_.all_values()
-  std::array<std::vector<ArcId>, kNumDirs> walked_arcs_;  // L[d] while building rows
+  std::vector<Walk>& arena_;
+  std::vector<QueueEntry>& queue_;
+  int hopeful_in_queue_ = 0;           // queued walks that are not hopeless
+  int64_t negative_slack_ = 0;         // sum of -q_a over the arcs with q_a < 0
+  StampedSet &seen_pre_, &seen_post_;  // over nodes
+  StampedSet& branch_offs_;            // over halfarcs
+  StampedSet& pre_branch_arcs_;        // over arcs
+  // State of the current pop: the fan over blocks and the candidates.
+  StampedSet& in_fan_;
+  std::vector<Rotation>& fan_rotation_;      // M_b
+  std::vector<Rotation>& fan_to_reference_;  // M_b^-1
+  std::vector<SlotId>& fan_slot_;            // (b, current node)
+  std::vector<int8_t>& fan_admissible_;      // -1 not evaluated yet at this node, else 0 or 1
+  std::vector<BlockId>& fan_order_;
+  std::vector<Candidate>& candidates_;
+  std::vector<int32_t>& fan_entries_;  // indices into halfarc_blocks_.all_values()
+  std::array<std::vector<ArcId>, kNumDirs>& walked_arcs_;  // L[d] while building rows
 };
 
 SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh), configs(mesh) {
@@ -288,6 +327,7 @@ SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh),
 
 SeparationSearch::Impl::Impl(const TMesh& mesh,
                              std::shared_ptr<const SeparationSearchTables> tables,
+                             std::shared_ptr<SeparationSearchScratch> scratch,
                              SeparationSearchOptions options)
     : mesh_(mesh),
       options_(options),
@@ -300,19 +340,26 @@ SeparationSearch::Impl::Impl(const TMesh& mesh,
       fan_crossings_(tables_->fan_crossings),
       critical_sides_(tables_->critical_sides),
       side_slots_(tables_->side_slots),
-      crossing_rotation_(tables_->crossing_rotation) {
-  positions_.resize(slots_.num_slots());
-  side_boxes_.resize(mesh.num_halfpatches());
-  seen_pre_.Resize(mesh.num_nodes());
-  seen_post_.Resize(mesh.num_nodes());
-  branch_offs_.Resize(mesh.num_halfarcs());
-  pre_branch_arcs_.Resize(mesh.num_arcs());
-  in_fan_.Resize(mesh.num_blocks());
-  fan_rotation_.resize(mesh.num_blocks());
-  fan_to_reference_.resize(mesh.num_blocks());
-  fan_slot_.resize(mesh.num_blocks());
-  fan_admissible_.resize(mesh.num_blocks());
-}
+      crossing_rotation_(tables_->crossing_rotation),
+      scratch_(scratch != nullptr ? std::move(scratch)
+                                  : std::make_shared<SeparationSearchScratch>(slots_, mesh)),
+      positions_(scratch_->positions),
+      side_boxes_(scratch_->side_boxes),
+      arena_(scratch_->arena),
+      queue_(scratch_->queue),
+      seen_pre_(scratch_->seen_pre),
+      seen_post_(scratch_->seen_post),
+      branch_offs_(scratch_->branch_offs),
+      pre_branch_arcs_(scratch_->pre_branch_arcs),
+      in_fan_(scratch_->in_fan),
+      fan_rotation_(scratch_->fan_rotation),
+      fan_to_reference_(scratch_->fan_to_reference),
+      fan_slot_(scratch_->fan_slot),
+      fan_admissible_(scratch_->fan_admissible),
+      fan_order_(scratch_->fan_order),
+      candidates_(scratch_->candidates),
+      fan_entries_(scratch_->fan_entries),
+      walked_arcs_(scratch_->walked_arcs) {}
 
 void SeparationSearch::Impl::ComputeGeometry(std::span<const int64_t> q) {
   slots_.ComputePositions(q, positions_);
@@ -691,11 +738,12 @@ void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirS
 }
 
 SeparationSearch::SeparationSearch(const TMesh& mesh, SeparationSearchOptions options)
-    : impl_(std::make_unique<Impl>(mesh, std::make_shared<SeparationSearchTables>(mesh), options)) {
-}
-SeparationSearch::SeparationSearch(const TMesh& mesh, const SeparationSearch& tables_of,
+    : impl_(std::make_unique<Impl>(mesh, std::make_shared<SeparationSearchTables>(mesh), nullptr,
+                                   options)) {}
+SeparationSearch::SeparationSearch(const TMesh& mesh, const SeparationSearch& sharing_with,
                                    SeparationSearchOptions options)
-    : impl_(std::make_unique<Impl>(mesh, tables_of.impl_->tables(), options)) {}
+    : impl_(std::make_unique<Impl>(mesh, sharing_with.impl_->tables(),
+                                   sharing_with.impl_->scratch(), options)) {}
 SeparationSearch::~SeparationSearch() = default;
 SeparationSearch::SeparationSearch(SeparationSearch&&) noexcept = default;
 SeparationSearch& SeparationSearch::operator=(SeparationSearch&&) noexcept = default;

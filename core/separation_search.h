@@ -5,10 +5,10 @@
 // coefficients only, paper App. B).
 //
 // The search is integer arithmetic on flat arrays; one instance precomputes everything that
-// depends on the mesh alone (or shares it with another instance of the same mesh) and reuses its
-// scratch buffers across calls, so one instance serves one thread.
+// depends on the mesh alone and reuses its scratch buffers across calls (or shares both with
+// another instance of the same mesh), so one instance serves one thread.
 //
-// Why one file of ~600 lines: the walk, its heap order, the fan of candidate moves and the
+// Why one file of ~750 lines: the walk, its heap order, the fan of candidate moves and the
 // admissibility test share one set of invariants (separation.md sections 3-4) and one scratch
 // state; the parts that stand alone are already apart (start configurations, neighbourhoods of
 // halfarcs, block node positions, integer boxes).
@@ -56,9 +56,11 @@ struct SeparationViolation {
 class SeparationSearch {
  public:
   explicit SeparationSearch(const TMesh& mesh, SeparationSearchOptions options = {});
-  // A search of the same mesh that shares the mesh tables of `tables_of` (which may be
-  // destroyed first) instead of building its own: half the memory when two searches run.
-  SeparationSearch(const TMesh& mesh, const SeparationSearch& tables_of,
+  // A search of the same mesh that shares the mesh tables and the per-call buffers of
+  // `sharing_with` (which may be destroyed first) instead of building its own: half the memory
+  // and half the construction when two searches run. Calls of the two must not overlap, which
+  // one thread calling one of them at a time (never from a sink) guarantees.
+  SeparationSearch(const TMesh& mesh, const SeparationSearch& sharing_with,
                    SeparationSearchOptions options);
   ~SeparationSearch();
   SeparationSearch(SeparationSearch&&) noexcept;

@@ -233,8 +233,9 @@ TEST(SeparationSearchTest, Deterministic) {
   }
 }
 
-// A search sharing another's mesh tables (as the two searches of core/separation_check.h do)
-// answers exactly as one with its own, in either mode, also after the other one is gone.
+// A search sharing another's mesh tables and buffers (as the two searches of
+// core/separation_check.h do) answers exactly as one with its own, in either mode, also after the
+// other one is gone.
 TEST(SeparationSearchTest, SharingMeshTablesChangesNoAnswer) {
   const std::vector<std::string> files = SharedTMeshFiles();
   ASSERT_FALSE(files.empty());
@@ -251,6 +252,31 @@ TEST(SeparationSearchTest, SharingMeshTablesChangesNoAnswer) {
         const std::vector<int64_t> q = SparseConsistentQ(quantizations, seed);
         EXPECT_TRUE(SameViolations(sharing.FindViolations(q), own.FindViolations(q)));
       }
+    }
+  }
+}
+
+// Two searches sharing tables and buffers, called in turn on different q, answer exactly as
+// searches with their own: no call sees what the other's last call left in the buffers.
+TEST(SeparationSearchTest, AlternatingCallsOfSharingSearchesChangeNoAnswer) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (size_t i = 0; i < files.size(); i += 5) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    SeparationSearch own_reference(mesh, {.block_box = BlockBoxMode::kReferenceUnsorted});
+    SeparationSearch own_sorted(mesh, {.block_box = BlockBoxMode::kSorted});
+    SeparationSearch reference(mesh, {.block_box = BlockBoxMode::kReferenceUnsorted});
+    SeparationSearch sorted(mesh, reference, {.block_box = BlockBoxMode::kSorted});
+    for (int seed = 1; seed <= 4; ++seed) {
+      const std::vector<int64_t> q = SparseConsistentQ(quantizations, seed);
+      const std::vector<int64_t> other = SparseConsistentQ(quantizations, seed + 10);
+      EXPECT_TRUE(SameViolations(reference.FindViolations(q), own_reference.FindViolations(q)));
+      EXPECT_TRUE(SameViolations(sorted.FindViolations(other), own_sorted.FindViolations(other)));
+      EXPECT_TRUE(SameViolations(sorted.FindViolations(q), own_sorted.FindViolations(q)));
+      EXPECT_TRUE(
+          SameViolations(reference.FindViolations(other), own_reference.FindViolations(other)));
     }
   }
 }
