@@ -166,8 +166,8 @@ void SeparationSearchTables::AddFanCrossings(const TMesh& mesh) {
 
 // The buffers of one call, sized by the mesh and rewritten by every call: nothing in them
 // outlives a call, so the two searches of core/separation_check.h, which run one after the
-// other on one thread, share one set. On a large mesh they are as big as the tables, and
-// first touching fresh pages is most of what building a search costs.
+// other on one thread, share one set. They are a third of a search's memory, and first touching
+// fresh pages is about half of what building a search costs (10k arcs: 19.5 ms cold, 9.8 warm).
 struct SeparationSearchScratch {
   explicit SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh);
 
