@@ -1,5 +1,7 @@
 #include "core/quantization_validator.h"
 
+#include <optional>
+
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/block_extents.h"
@@ -79,8 +81,13 @@ std::string ValidationReport::Describe(int max_lines) const {
   return text;
 }
 
-absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::span<const int64_t> q,
-                                                      const ValidationOptions& options) {
+namespace {
+
+// The validator with `separation` if given, else with a check of its own, built only when q gets
+// as far as the search.
+absl::StatusOr<ValidationReport> Validate(const TMesh& mesh, std::span<const int64_t> q,
+                                          const ValidationOptions& options,
+                                          SeparationCheck* separation) {
   if (static_cast<int64_t>(q.size()) != mesh.num_arcs()) {
     return absl::InvalidArgumentError(absl::StrCat(
         "the quantization has ", q.size(), " entries but the mesh has ", mesh.num_arcs(), " arcs"));
@@ -106,12 +113,30 @@ absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::sp
   }
   // The search assumes well-defined integer positions and a non-degenerate start box.
   if (report.consistency.empty() && report.simple.empty()) {
-    SeparationCheck check(mesh, options.separation);
-    report.separation = check.FindAllViolations(q);
+    std::optional<SeparationCheck> own;
+    if (separation == nullptr) separation = &own.emplace(mesh, options.separation);
+    report.separation = separation->FindAllViolations(q);
     report.separation_checked = true;
     report.hexes_overflow = !HexCount(mesh, q).has_value();
   }
   return report;
+}
+
+}  // namespace
+
+absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::span<const int64_t> q,
+                                                      const ValidationOptions& options) {
+  return Validate(mesh, q, options, nullptr);
+}
+
+absl::StatusOr<ValidationReport> ValidateQuantization(const TMesh& mesh, std::span<const int64_t> q,
+                                                      const ValidationOptions& options,
+                                                      SeparationCheck& separation) {
+  if (&separation.mesh() != &mesh || separation.rule() != options.separation) {
+    return absl::InvalidArgumentError(
+        "the separation check was built for another mesh or separation rule");
+  }
+  return Validate(mesh, q, options, &separation);
 }
 
 }  // namespace ispq

@@ -5,7 +5,8 @@
 
 namespace ispq {
 
-SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule) {
+SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule)
+    : mesh_(&mesh), rule_(rule) {
   searches_.reserve(2);
   searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kReferenceUnsorted});
   if (rule == SeparationRule::kBothSearches) {

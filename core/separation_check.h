@@ -42,7 +42,13 @@ class SeparationCheck {
   // The violations of every search of the rule, reference search first.
   std::vector<SeparationViolation> FindAllViolations(std::span<const int64_t> q);
 
+  // What the check was built for: users handed a check confirm it is the one they need.
+  const TMesh& mesh() const { return *mesh_; }
+  SeparationRule rule() const { return rule_; }
+
  private:
+  const TMesh* mesh_;
+  SeparationRule rule_;
   std::vector<SeparationSearch> searches_;
 };
 

@@ -499,11 +499,22 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
                                                const IspTuning& tuning, ProgressObserver* observer,
                                                const SolveInterrupter* interrupter) {
   RunClock clock(interrupter, options.time_limit_seconds);
+  SeparationCheck separation(mesh, options.separation);
+  return RunIntegerSheetPump(mesh, options, new_lp, tuning, observer, clock, separation);
+}
+
+absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const QuantizeOptions& options,
+                                               const SheetLpFactory& new_lp,
+                                               const IspTuning& tuning, ProgressObserver* observer,
+                                               RunClock& clock, SeparationCheck& separation) {
+  if (&separation.mesh() != &mesh || separation.rule() != options.separation) {
+    return absl::InvalidArgumentError(
+        "the separation check was built for another mesh or separation rule");
+  }
   QuantizeStats stats;
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
   BundleQuantization quantization(mesh, bundles, options.scaling);
-  SeparationCheck separation(mesh, options.separation);
   std::optional<ValidStart> start;
   if (mesh.num_arcs() >= tuning.layered_start_min_arcs) {
     start = FindLayeredStart(mesh, consistency, bundles, quantization, options.scaling, separation,

@@ -22,10 +22,12 @@
 
 #include "absl/status/statusor.h"
 #include "core/isp/isp_tuning.h"
+#include "core/isp/run_clock.h"
 #include "core/isp/sheet_lp.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"
 #include "core/quantize_result.h"
+#include "core/separation_check.h"
 #include "core/separation_row.h"
 #include "core/solve_interrupter.h"
 #include "core/tmesh.h"
@@ -49,6 +51,14 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
                                                const SheetLpFactory& new_lp,
                                                const IspTuning& tuning, ProgressObserver* observer,
                                                const SolveInterrupter* interrupter);
+
+// The same on the caller's clock (options.time_limit_seconds and the interrupter are the
+// clock's) and with the searches of `separation`, built for this mesh and options.separation
+// (otherwise INVALID_ARGUMENT): core/quantizer.cc hands its validator the same check.
+absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const QuantizeOptions& options,
+                                               const SheetLpFactory& new_lp,
+                                               const IspTuning& tuning, ProgressObserver* observer,
+                                               RunClock& clock, SeparationCheck& separation);
 
 }  // namespace ispq
 

@@ -85,6 +85,34 @@ QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tunin
   return outcome.ok() ? outcome->stats : QuantizeStats{};
 }
 
+TEST(IntegerSheetPumpTest, RunsOnTheCallersCheckOnlyIfItFitsTheMeshAndRule) {
+  const TMesh mesh = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  const TMesh copy = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[7].scaling;
+  const auto run = [&](SeparationCheck& check) {
+    RunClock clock(nullptr, options.time_limit_seconds);
+    return RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, nullptr, clock,
+                               check);
+  };
+  SeparationCheck of_copy(copy, options.separation);
+  EXPECT_EQ(run(of_copy).status().code(), absl::StatusCode::kInvalidArgument);
+  SeparationCheck reference_only(mesh, SeparationRule::kReferenceSearch);
+  EXPECT_EQ(run(reference_only).status().code(), absl::StatusCode::kInvalidArgument);
+
+  SeparationCheck check(mesh, options.separation);
+  const absl::StatusOr<IspOutcome> outcome = run(check);
+  ASSERT_TRUE(outcome.ok()) << outcome.status();
+  const absl::StatusOr<IspOutcome> own =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), IspTuning{}, nullptr, nullptr);
+  ASSERT_TRUE(own.ok()) << own.status();
+  EXPECT_EQ(outcome->q, own->q);
+  EXPECT_TRUE(outcome->separating);
+  const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q, {}, check);
+  ASSERT_TRUE(report.ok());
+  EXPECT_TRUE(report->valid()) << report->Describe();
+}
+
 TEST(IntegerSheetPumpTest, FailsafeOnlyUsesTheFailsafeMode) {
   IspTuning tuning;
   tuning.failsafe_separation_only = true;

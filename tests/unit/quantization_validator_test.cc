@@ -193,6 +193,54 @@ TEST(QuantizationValidatorTest, SeparationViolation) {
                          " touches patch ", v.target, " (path 1 halfarcs, sorted search)\n"));
 }
 
+// The caller's check (core/quantizer.cc hands its validator the run's): its verdicts on a q are
+// the validator's own, whatever it was used for before.
+TEST(QuantizationValidatorTest, WithTheCallersCheckReportsAsWithItsOwn) {
+  testing::GridTMeshSpec spec;
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) spec.blocks.push_back({{i, j, k}, {i + 1, j + 1, k + 1}});
+    }
+  }
+  spec.feature_nodes = {{1, 1, 1}};
+  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(spec);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  std::vector<int64_t> flat_bottom;  // the bottom layer collapsed
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    const auto& [from, to] = grid->arc_ends(a);
+    flat_bottom.push_back(from[2] == to[2] || from[2] == 1 ? 1 : 0);
+  }
+  std::vector<int64_t> ones(mesh.num_arcs(), 1);
+  SeparationCheck check(mesh, SeparationRule::kBothSearches);
+  for (const std::vector<int64_t>* q : {&ones, &flat_bottom, &ones, &flat_bottom}) {
+    const absl::StatusOr<ValidationReport> own = ValidateQuantization(mesh, *q);
+    const absl::StatusOr<ValidationReport> shared = ValidateQuantization(mesh, *q, {}, check);
+    ASSERT_TRUE(own.ok() && shared.ok());
+    EXPECT_EQ(shared->valid(), q == &ones);
+    EXPECT_EQ(shared->separation.size(), q == &ones ? 0u : 2u);
+    EXPECT_EQ(shared->Describe(), own->Describe());
+  }
+}
+
+TEST(QuantizationValidatorTest, RefusesACheckOfAnotherMeshOrRule) {
+  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh copy = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const std::vector<int64_t> q = CubeQ(cube, 1, 2, 3);
+  SeparationCheck of_copy(copy, SeparationRule::kBothSearches);
+  EXPECT_EQ(ValidateQuantization(cube, q, {}, of_copy).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  SeparationCheck reference_only(cube, SeparationRule::kReferenceSearch);
+  EXPECT_EQ(ValidateQuantization(cube, q, {}, reference_only).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  ValidationOptions reference_rule;
+  reference_rule.separation = SeparationRule::kReferenceSearch;
+  const absl::StatusOr<ValidationReport> report =
+      ValidateQuantization(cube, q, reference_rule, reference_only);
+  ASSERT_TRUE(report.ok()) << report.status();
+  EXPECT_TRUE(report->valid());
+}
+
 // On every shared mesh: q = 0 collapses every link and region (the search is not run); a
 // consistent q with every arc positive passes consistency and the simple rows, and every
 // separation violation reported for it is violated by it.
