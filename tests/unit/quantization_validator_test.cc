@@ -33,6 +33,28 @@ std::vector<int64_t> CubeQ(const TMesh& cube, int64_t u, int64_t v, int64_t w) {
   return q;
 }
 
+// Two by two by two unit cubes around a feature node at (1, 1, 1).
+absl::StatusOr<testing::GridTMesh> EightCubesAroundAFeatureNode() {
+  testing::GridTMeshSpec spec;
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) spec.blocks.push_back({{i, j, k}, {i + 1, j + 1, k + 1}});
+    }
+  }
+  spec.feature_nodes = {{1, 1, 1}};
+  return testing::BuildGridTMesh(spec);
+}
+
+// A consistent q with the bottom layer of cubes flat: the feature node touches the bottom.
+std::vector<int64_t> FlatBottomQ(const testing::GridTMesh& grid, const TMesh& mesh) {
+  std::vector<int64_t> q;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    const auto& [from, to] = grid.arc_ends(a);
+    q.push_back(from[2] == to[2] || from[2] == 1 ? 1 : 0);
+  }
+  return q;
+}
+
 int CountLines(const std::string& text) {
   return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
 }
@@ -157,21 +179,10 @@ TEST(QuantizationValidatorTest, CollapsedAndNegativeCube) {
 
 // T6's feature node on the bottom boundary: consistent, simple rows hold, one violation.
 TEST(QuantizationValidatorTest, SeparationViolation) {
-  testing::GridTMeshSpec spec;
-  for (int k = 0; k < 2; ++k) {
-    for (int j = 0; j < 2; ++j) {
-      for (int i = 0; i < 2; ++i) spec.blocks.push_back({{i, j, k}, {i + 1, j + 1, k + 1}});
-    }
-  }
-  spec.feature_nodes = {{1, 1, 1}};
-  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(spec);
+  const absl::StatusOr<testing::GridTMesh> grid = EightCubesAroundAFeatureNode();
   ASSERT_TRUE(grid.ok()) << grid.status();
   const TMesh mesh = testing::TMeshOrDie(grid->proto());
-  std::vector<int64_t> q;
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    const auto& [from, to] = grid->arc_ends(a);
-    q.push_back(from[2] == to[2] || from[2] == 1 ? 1 : 0);  // the bottom layer is flat
-  }
+  const std::vector<int64_t> q = FlatBottomQ(*grid, mesh);
   const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, q);
   ASSERT_TRUE(report.ok());
   EXPECT_TRUE(report->consistent());
@@ -196,21 +207,10 @@ TEST(QuantizationValidatorTest, SeparationViolation) {
 // The caller's check (core/quantizer.cc hands its validator the run's): its verdicts on a q are
 // the validator's own, whatever it was used for before.
 TEST(QuantizationValidatorTest, WithTheCallersCheckReportsAsWithItsOwn) {
-  testing::GridTMeshSpec spec;
-  for (int k = 0; k < 2; ++k) {
-    for (int j = 0; j < 2; ++j) {
-      for (int i = 0; i < 2; ++i) spec.blocks.push_back({{i, j, k}, {i + 1, j + 1, k + 1}});
-    }
-  }
-  spec.feature_nodes = {{1, 1, 1}};
-  const absl::StatusOr<testing::GridTMesh> grid = testing::BuildGridTMesh(spec);
+  const absl::StatusOr<testing::GridTMesh> grid = EightCubesAroundAFeatureNode();
   ASSERT_TRUE(grid.ok()) << grid.status();
   const TMesh mesh = testing::TMeshOrDie(grid->proto());
-  std::vector<int64_t> flat_bottom;  // the bottom layer collapsed
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    const auto& [from, to] = grid->arc_ends(a);
-    flat_bottom.push_back(from[2] == to[2] || from[2] == 1 ? 1 : 0);
-  }
+  std::vector<int64_t> flat_bottom = FlatBottomQ(*grid, mesh);
   std::vector<int64_t> ones(mesh.num_arcs(), 1);
   SeparationCheck check(mesh, SeparationRule::kBothSearches);
   for (const std::vector<int64_t>* q : {&ones, &flat_bottom, &ones, &flat_bottom}) {
