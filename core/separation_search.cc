@@ -192,7 +192,9 @@ void SeparationSearchTables::AddHalfarcBlocks(const TMesh& mesh,
       const auto it = std::find(blocks.begin(), blocks.end(), b);
       const ArcInBlock* entry =
           it == blocks.end() ? nullptr : &arcs_in_blocks[arc_first_pair[a] + (it - blocks.begin())];
-      if (entry == nullptr || entry->from_slot == kNoId) {  // not on b's boundary after all
+      // A block around the halfarc that does not list the arc (no validated mesh has one) is
+      // looked up as it was before the block pass.
+      if (entry == nullptr || entry->from_slot == kNoId) {
         halfarc_blocks.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots.Find(b, mesh.head(h))});
       } else if ((h & 1) == 0) {
         halfarc_blocks.PushToLast({b, entry->dir, entry->to_slot});
