@@ -31,6 +31,7 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
     }
   }
   block_first_slot_.push_back(static_cast<SlotId>(slot_node_.size()));
+  block_first_step_.reserve(num_blocks + 1);
 
   // Breadth-first spanning tree of each block's boundary graph from its (-,-,-) corner, over
   // that graph in flat arrays (edges grouped by their first slot) and a node -> slot map that is
@@ -64,7 +65,7 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
     // Each slot's edges now end where the next slot's begin.
     reached.assign(count, 0);
     const SlotId root = corner_slots_[b][kMinCorner];
-    roots_.push_back(root);
+    block_first_step_.push_back(static_cast<int32_t>(tree_steps_.size()));
     reached[root - first] = 1;
     queue.assign(1, root);
     for (size_t i = 0; i < queue.size(); ++i) {
@@ -77,12 +78,10 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
         queue.push_back(step.slot);
       }
     }
-    // A validated block's boundary is connected; anything unreached would stay at the origin.
-    for (int i = 0; i < count; ++i) {
-      if (!reached[i]) roots_.push_back(first + i);
-    }
+    // A validated block's boundary is connected; anything unreached stays at the origin.
     for (SlotId s = first; s < first + count; ++s) slot_at_node[slot_node_[s]] = kNoId;
   }
+  block_first_step_.push_back(static_cast<int32_t>(tree_steps_.size()));
 }
 
 SlotId BlockNodeSlots::Find(BlockId b, NodeId n) const {
@@ -95,8 +94,17 @@ SlotId BlockNodeSlots::Find(BlockId b, NodeId n) const {
 
 void BlockNodeSlots::ComputePositions(std::span<const int64_t> q,
                                       std::span<IntVec3> positions) const {
-  for (SlotId root : roots_) positions[root] = {0, 0, 0};
-  for (const TreeStep& step : tree_steps_) {
+  for (BlockId b = 0; b + 1 < static_cast<BlockId>(block_first_slot_.size()); ++b) {
+    ComputeBlockPositions(b, q, positions);
+  }
+}
+
+void BlockNodeSlots::ComputeBlockPositions(BlockId b, std::span<const int64_t> q,
+                                           std::span<IntVec3> positions) const {
+  std::fill(positions.begin() + block_first_slot_[b], positions.begin() + block_first_slot_[b + 1],
+            IntVec3{0, 0, 0});
+  for (int32_t i = block_first_step_[b]; i < block_first_step_[b + 1]; ++i) {
+    const TreeStep& step = tree_steps_[i];
     positions[step.slot] = AddAlong(positions[step.parent], step.dir, q[step.arc]);
   }
 }

@@ -38,6 +38,10 @@ class BlockNodeSlots {
   // positions[s] = P_b(n) for slot s = (b, n). positions.size() must be num_slots(). When q is
   // not consistent the result depends on the spanning tree and means nothing.
   void ComputePositions(std::span<const int64_t> q, std::span<IntVec3> positions) const;
+  // The same for the slots of block b only (the others are left as they are): for searches that
+  // read the positions of a few blocks.
+  void ComputeBlockPositions(BlockId b, std::span<const int64_t> q,
+                             std::span<IntVec3> positions) const;
 
  private:
   // One edge of a block's spanning tree: P[slot] = P[parent] + q[arc] * direction.
@@ -52,8 +56,11 @@ class BlockNodeSlots {
   std::vector<BlockId> slot_block_;
   std::vector<NodeId> slot_node_;
   std::vector<std::array<SlotId, kNumCorners>> corner_slots_;
-  std::vector<SlotId> roots_;  // slots whose position is the origin (each block's (-,-,-) corner)
-  std::vector<TreeStep> tree_steps_;  // parents always precede their children
+  // Block b's spanning tree is tree_steps_[block_first_step_[b] .. block_first_step_[b + 1]), its
+  // parents always before their children; every other slot of b (its (-,-,-) corner, and any
+  // slot the tree does not reach) is at the origin.
+  std::vector<int32_t> block_first_step_;  // num_blocks + 1 entries
+  std::vector<TreeStep> tree_steps_;
 };
 
 }  // namespace ispq

@@ -31,28 +31,10 @@ class FlatLists {
     ++offsets_.back();
   }
 
-  // Appends a list of `size` copies of `value`, overwritten later through MutableList: for lists
-  // whose values are computed in another order than the lists'.
-  void AppendFilled(size_t size, const T& value) {
-    values_.resize(values_.size() + size, value);
-    offsets_.push_back(static_cast<uint32_t>(values_.size()));
-  }
-  std::span<T> MutableList(int i) {
-    return {values_.data() + offsets_[i], values_.data() + offsets_[i + 1]};
-  }
-
-  // Makes room for `lists` lists of `values` values in all: on a large mesh, growing the arrays
-  // one push at a time copies them again and again into freshly faulted memory.
-  void Reserve(size_t lists, size_t values) {
-    offsets_.reserve(lists + 1);
-    values_.reserve(values);
-  }
-
   int size() const { return static_cast<int>(offsets_.size()) - 1; }
   std::span<const T> operator[](int i) const {
     return {values_.data() + offsets_[i], values_.data() + offsets_[i + 1]};
   }
-  std::span<const T> all_values() const { return values_; }
 
  private:
   std::vector<T> values_;

@@ -8,37 +8,13 @@
 #include <utility>
 
 #include "core/block_node_positions.h"
-#include "core/flat_lists.h"
-#include "core/halfarc_neighborhood.h"
 #include "core/integer_box.h"
+#include "core/separation_search_tables.h"
 #include "core/separation_start_configurations.h"
 #include "core/stamped_set.h"
 
 namespace ispq {
 namespace {
-
-// A block around a halfarc (in the radial order around it), the halfarc's direction in the
-// block's frame and the block's slot of the halfarc's head.
-struct HalfarcInBlock {
-  BlockId block;
-  Dir dir;
-  SlotId head_slot;
-};
-
-// A halfpatch side owned by a slot's block that passes through the slot's node, and the slot of
-// the same node in the block across it (kNoId on the boundary). The fan crosses these.
-struct FanCrossing {
-  HalfpatchId side;
-  SlotId neighbor_slot;
-};
-
-// A side of a critical patch at a node that has a block: the block's slot of the node and the
-// patch normal's axis in the block's frame (violation test (c)).
-struct CriticalSide {
-  HalfpatchId side;
-  SlotId slot;
-  int normal_axis;
-};
 
 // One walk, stored once in an arena; its path is recovered through the parent links.
 struct Walk {
@@ -102,163 +78,18 @@ void DropZeroTerms(std::vector<LinearTerm>& terms) {
 
 }  // namespace
 
-// Everything that depends on the mesh alone (section 6.2): built once and shared by the
-// searches of one mesh (core/separation_check.h runs two).
-struct SeparationSearchTables {
-  explicit SeparationSearchTables(const TMesh& mesh);
-
-  const BlockNodeSlots slots;
-  const SeparationStartConfigurations configs;
-  std::vector<SlotId> config_start_slot;
-  FlatLists<HalfarcId> sorted_outgoing;      // per node, ascending halfarc id
-  FlatLists<HalfarcInBlock> halfarc_blocks;  // per halfarc, radial order
-  FlatLists<FanCrossing> fan_crossings;      // per slot, in the block's halfpatch order
-  FlatLists<CriticalSide> critical_sides;    // per node, ascending incident halfpatch
-  FlatLists<SlotId> side_slots;              // per halfpatch: its owner's slots of its cycle
-  std::vector<Rotation> crossing_rotation;   // per halfpatch: Rot(g)
-
- private:
-  // An arc (as halfarc 2a) in one of its blocks: its direction in the block's frame and the
-  // block's slots of its ends. One per (arc, block) pair, in the order of mesh.arc_blocks.
-  struct ArcInBlock {
-    Dir dir;
-    SlotId from_slot = kNoId;
-    SlotId to_slot = kNoId;
-  };
-
-  // side_slots and the arcs in their blocks, block by block through a node -> slot map of the
-  // block: an array lookup instead of a binary search of the block's slots (and of its arcs)
-  // for each of them, which was a third of building a check (10k arcs: 19 -> 14.3 ms with the
-  // fan crossings read from side_slots). Returns the arcs in blocks for AddHalfarcBlocks.
-  std::vector<ArcInBlock> AddSideSlotsAndArcsInBlocks(const TMesh& mesh,
-                                                      std::span<const uint32_t> arc_first_pair);
-  void AddHalfarcBlocks(const TMesh& mesh, std::span<const uint32_t> arc_first_pair,
-                        std::span<const ArcInBlock> arcs_in_blocks);
-  void AddFanCrossings(const TMesh& mesh);
-};
-
-std::vector<SeparationSearchTables::ArcInBlock> SeparationSearchTables::AddSideSlotsAndArcsInBlocks(
-    const TMesh& mesh, std::span<const uint32_t> arc_first_pair) {
-  for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
-    side_slots.AppendFilled(mesh.halfpatch_block(hp) == kNoId ? 0 : mesh.halfpatch_cycle_size(hp),
-                            kNoId);
-  }
-  std::vector<ArcInBlock> arcs_in_blocks(arc_first_pair.back());
-  std::vector<SlotId> slot_of_node(mesh.num_nodes(), kNoId);  // of the current block
-  const auto map_nodes_of = [&](BlockId b, bool mapped) {
-    for (SlotId s = slots.first_slot(b); s < slots.end_slot(b); ++s) {
-      slot_of_node[slots.node_of(s)] = mapped ? s : kNoId;
-    }
-  };
-  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
-    map_nodes_of(b, true);
-    for (const HalfpatchId side : mesh.block_halfpatches(b)) {
-      if (mesh.halfpatch_block(side) != b) continue;  // not b's to fill
-      const std::span<SlotId> cycle_slots = side_slots.MutableList(side);
-      for (int i = 0; i < static_cast<int>(cycle_slots.size()); ++i) {
-        cycle_slots[i] = slot_of_node[mesh.tail(mesh.HalfpatchCycleAt(side, i))];
-      }
-    }
-    for (const BlockArc& ba : mesh.block_arcs(b)) {
-      const std::span<const BlockId> blocks = mesh.arc_blocks(ba.arc);
-      const auto it = std::find(blocks.begin(), blocks.end(), b);
-      if (it == blocks.end()) continue;  // a validated mesh lists every block of an arc
-      ArcInBlock& entry = arcs_in_blocks[arc_first_pair[ba.arc] + (it - blocks.begin())];
-      if (entry.from_slot != kNoId) continue;  // the first listing wins, as in a lookup
-      entry = {ba.dir, slot_of_node[mesh.arc_from(ba.arc)], slot_of_node[mesh.arc_to(ba.arc)]};
-    }
-    map_nodes_of(b, false);
-  }
-  return arcs_in_blocks;
-}
-
-// halfarc_blocks: the blocks around each halfarc in its radial order, read from the arcs in
-// blocks (halfarc 2a + 1 runs against the arc's direction, from its head to its tail).
-void SeparationSearchTables::AddHalfarcBlocks(const TMesh& mesh,
-                                              std::span<const uint32_t> arc_first_pair,
-                                              std::span<const ArcInBlock> arcs_in_blocks) {
-  std::vector<BlockId> around;
-  for (HalfarcId h = 0; h < mesh.num_halfarcs(); ++h) {
-    halfarc_blocks.OpenList();
-    const ArcId a = ArcOf(h);
-    const std::span<const BlockId> blocks = mesh.arc_blocks(a);
-    // Halfarc 2a's blocks around it are the arc's blocks as listed (core/tmesh.h).
-    if ((h & 1) == 0) {
-      around.assign(blocks.begin(), blocks.end());
-    } else {
-      BlocksAroundHalfarc(mesh, h, &around);
-    }
-    for (BlockId b : around) {
-      const auto it = std::find(blocks.begin(), blocks.end(), b);
-      const ArcInBlock* entry =
-          it == blocks.end() ? nullptr : &arcs_in_blocks[arc_first_pair[a] + (it - blocks.begin())];
-      // A block around the halfarc that does not list the arc (no validated mesh has one) is
-      // looked up as it was before the block pass.
-      if (entry == nullptr || entry->from_slot == kNoId) {
-        halfarc_blocks.PushToLast({b, *mesh.HalfarcDirInBlock(h, b), slots.Find(b, mesh.head(h))});
-      } else if ((h & 1) == 0) {
-        halfarc_blocks.PushToLast({b, entry->dir, entry->to_slot});
-      } else {
-        halfarc_blocks.PushToLast({b, Opposite(entry->dir), entry->from_slot});
-      }
-    }
-  }
-}
-
-// fan_crossings, block by block from side_slots: each side of the block adds itself to its
-// slots (those of the nodes on its cycle), so the sides of each slot come in the block's
-// halfpatch order.
-void SeparationSearchTables::AddFanCrossings(const TMesh& mesh) {
-  std::vector<HalfpatchId> last_side;  // per local slot: a node twice in a cycle counts once
-  std::vector<int32_t> end;            // per local slot, after the fill below
-  std::vector<FanCrossing> crossings;
-  // Calls `visit(local slot, side, i)` for every (slot, side through its node) pair of block b,
-  // the node at position i of the side's cycle.
-  const auto for_each_pair = [&](BlockId b, const auto& visit) {
-    const SlotId first = slots.first_slot(b);
-    std::fill(last_side.begin(), last_side.end(), kNoId);
-    for (const HalfpatchId side : mesh.block_halfpatches(b)) {
-      if (mesh.halfpatch_block(side) != b) continue;  // its slots are another block's
-      const std::span<const SlotId> cycle = side_slots[side];
-      for (int i = 0; i < static_cast<int>(cycle.size()); ++i) {
-        // A validated block has a slot for every node of its sides' cycles; anything else is
-        // skipped, as a lookup of the slot would skip it.
-        if (cycle[i] == kNoId || last_side[cycle[i] - first] == side) continue;
-        last_side[cycle[i] - first] = side;
-        visit(cycle[i] - first, side, i);
-      }
-    }
-  };
-  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
-    const int count = slots.end_slot(b) - slots.first_slot(b);
-    last_side.assign(count, kNoId);
-    end.assign(count + 1, 0);  // counts, then prefix sums, then each slot's end
-    for_each_pair(b, [&](int32_t local, HalfpatchId, int) { ++end[local + 1]; });
-    for (int i = 0; i < count; ++i) end[i + 1] += end[i];
-    crossings.resize(end[count]);
-    for_each_pair(b, [&](int32_t local, HalfpatchId side, int i) {
-      // Position i of the side's cycle is position (size - i) % size of the other side's, whose
-      // slots are the block across's (none on the boundary).
-      const std::span<const SlotId> across = side_slots[side ^ 1];
-      const int size = mesh.halfpatch_cycle_size(side);
-      crossings[end[local]++] = {side, across.empty() ? kNoId : across[(size - i) % size]};
-    });
-    for (int i = 0; i < count; ++i) {
-      fan_crossings.OpenList();
-      for (int e = i == 0 ? 0 : end[i - 1]; e < end[i]; ++e) fan_crossings.PushToLast(crossings[e]);
-    }
-  }
-}
-
 // The buffers of one call, sized by the mesh and rewritten by every call: nothing in them
 // outlives a call, so the two searches of core/separation_check.h, which run one after the
-// other on one thread, share one set. They are a third of a search's memory, and first touching
-// fresh pages is about half of what building a search costs (10k arcs: 19.5 ms cold, 9.8 warm).
+// other on one thread, share one set. The geometry arrays are per slot and per halfpatch but a
+// call fills only the blocks its fans reach: they are allocated without being written, so the
+// pages of blocks no search reaches are never touched (a first touch costs about 12 us on the
+// development VM, and a large run's first searches reach a small part of the mesh).
 struct SeparationSearchScratch {
   explicit SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh);
 
-  std::vector<IntVec3> positions;
-  std::vector<IntBox> side_boxes;
+  std::unique_ptr<IntVec3[]> positions;  // per slot
+  std::unique_ptr<IntBox[]> side_boxes;  // per halfpatch
+  StampedSet geometry_ready;             // over blocks: positions and side boxes of this call
   std::vector<Walk> arena;
   std::vector<QueueEntry> queue;
   StampedSet seen_pre, seen_post, branch_offs, pre_branch_arcs, in_fan;
@@ -272,12 +103,13 @@ struct SeparationSearchScratch {
 };
 
 SeparationSearchScratch::SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh)
-    : positions(slots.num_slots()),
-      side_boxes(mesh.num_halfpatches()),
+    : positions(new IntVec3[slots.num_slots()]),
+      side_boxes(new IntBox[mesh.num_halfpatches()]),
       fan_rotation(mesh.num_blocks()),
       fan_to_reference(mesh.num_blocks()),
       fan_slot(mesh.num_blocks()),
       fan_admissible(mesh.num_blocks()) {
+  geometry_ready.Resize(mesh.num_blocks());
   seen_pre.Resize(mesh.num_nodes());
   seen_post.Resize(mesh.num_nodes());
   branch_offs.Resize(mesh.num_halfarcs());
@@ -287,17 +119,21 @@ SeparationSearchScratch::SeparationSearchScratch(const BlockNodeSlots& slots, co
 
 class SeparationSearch::Impl {
  public:
-  Impl(const TMesh& mesh, std::shared_ptr<const SeparationSearchTables> tables,
+  Impl(const TMesh& mesh, std::shared_ptr<SeparationSearchTables> tables,
        std::shared_ptr<SeparationSearchScratch> scratch, SeparationSearchOptions options);
-  const std::shared_ptr<const SeparationSearchTables>& tables() const { return tables_; }
+  const std::shared_ptr<SeparationSearchTables>& tables() const { return tables_; }
   const std::shared_ptr<SeparationSearchScratch>& scratch() const { return scratch_; }
 
   int64_t FindViolations(std::span<const int64_t> q,
                          const std::function<bool(SeparationViolation&)>& sink);
 
  private:
-  // Per-call state that depends on q only.
-  void ComputeGeometry(std::span<const int64_t> q);
+  // Per-call state that depends on q only: the positions of block b's slots and the boxes of
+  // the sides it owns (section 6.3), computed the first time a fan of this call reaches b.
+  void EnsureGeometry(BlockId b) {
+    if (!geometry_ready_.Contains(b)) ComputeGeometry(b);
+  }
+  void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
 
   // One search (separation.md section 3.4); true and `violation` filled on the first hit.
@@ -307,7 +143,7 @@ class SeparationSearch::Impl {
   void BuildFan(const Walk& walk, bool at_start_box);
   void BuildCandidates(const Walk& walk);
   bool FindViolationDirs(const Walk& walk, bool at_start_box, std::span<const int64_t> q,
-                         DirSet& dirs, SeparationTargetKind& kind, int32_t& target) const;
+                         DirSet& dirs, SeparationTargetKind& kind, int32_t& target);
   void Expand(int32_t walk_index, bool at_start_box, std::span<const int64_t> q);
   bool Admissible(const Walk& walk, bool at_start_box, BlockId block);
   // Touches(box_, other) for the current search, whose start box is never inverted.
@@ -320,23 +156,18 @@ class SeparationSearch::Impl {
 
   const TMesh& mesh_;
   const SeparationSearchOptions options_;
-  // Mesh tables (section 6.2), shared; the references name their parts.
-  const std::shared_ptr<const SeparationSearchTables> tables_;
+  // Mesh tables (section 6.2), shared and built as the searches read them.
+  const std::shared_ptr<SeparationSearchTables> tables_;
   const BlockNodeSlots& slots_;
   const SeparationStartConfigurations& configs_;
-  const std::vector<SlotId>& config_start_slot_;
-  const FlatLists<HalfarcId>& sorted_outgoing_;
-  const FlatLists<HalfarcInBlock>& halfarc_blocks_;
-  const FlatLists<FanCrossing>& fan_crossings_;
-  const FlatLists<CriticalSide>& critical_sides_;
-  const FlatLists<SlotId>& side_slots_;
-  const std::vector<Rotation>& crossing_rotation_;
 
   // Buffers, possibly shared with another search of the mesh; the references name their parts.
   const std::shared_ptr<SeparationSearchScratch> scratch_;
-  // Geometry of the current q (section 6.3).
-  std::vector<IntVec3>& positions_;  // per slot
-  std::vector<IntBox>& side_boxes_;  // per owned halfpatch side, in the owner's frame
+  // Geometry of the current q (section 6.3), valid for the blocks in geometry_ready_.
+  std::span<const int64_t> q_;
+  IntVec3* const positions_;  // per slot
+  IntBox* const side_boxes_;  // per owned halfpatch side, in the owner's frame
+  StampedSet& geometry_ready_;
 
   // State of the current search.
   IntBox box_{};
@@ -356,72 +187,23 @@ class SeparationSearch::Impl {
   std::vector<int8_t>& fan_admissible_;      // -1 not evaluated yet at this node, else 0 or 1
   std::vector<BlockId>& fan_order_;
   std::vector<Candidate>& candidates_;
-  std::vector<int32_t>& fan_entries_;  // indices into halfarc_blocks_.all_values()
+  std::vector<int32_t>& fan_entries_;  // indices for SeparationSearchTables::HalfarcBlockAt
   std::array<std::vector<ArcId>, kNumDirs>& walked_arcs_;  // L[d] while building rows
 };
 
-SeparationSearchTables::SeparationSearchTables(const TMesh& mesh) : slots(mesh), configs(mesh) {
-  size_t halfarc_block_pairs = 0, cycle_halfarcs = 0;
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) halfarc_block_pairs += 2 * mesh.arc_blocks(a).size();
-  for (PatchId p = 0; p < mesh.num_patches(); ++p) cycle_halfarcs += 2 * mesh.patch_cycle(p).size();
-  sorted_outgoing.Reserve(mesh.num_nodes(), mesh.num_halfarcs());
-  halfarc_blocks.Reserve(mesh.num_halfarcs(), halfarc_block_pairs);
-  fan_crossings.Reserve(slots.num_slots(), cycle_halfarcs);
-  critical_sides.Reserve(mesh.num_nodes(), 0);
-  side_slots.Reserve(mesh.num_halfpatches(), cycle_halfarcs);
-  crossing_rotation.reserve(mesh.num_halfpatches());
-  config_start_slot.reserve(configs.size());
-  for (int i = 0; i < configs.size(); ++i) {
-    config_start_slot.push_back(slots.Find(configs[i].start_block, configs[i].start_node));
-  }
-  std::vector<HalfarcId> outgoing;
-  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
-    outgoing.assign(mesh.outgoing_halfarcs(n).begin(), mesh.outgoing_halfarcs(n).end());
-    std::sort(outgoing.begin(), outgoing.end());
-    sorted_outgoing.Append(outgoing);
-  }
-  std::vector<uint32_t> arc_first_pair(mesh.num_arcs() + 1, 0);  // into arcs in blocks
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-    arc_first_pair[a + 1] = arc_first_pair[a] + mesh.arc_blocks(a).size();
-  }
-  AddHalfarcBlocks(mesh, arc_first_pair, AddSideSlotsAndArcsInBlocks(mesh, arc_first_pair));
-  AddFanCrossings(mesh);  // reads side_slots
-  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
-    critical_sides.OpenList();
-    for (HalfpatchId g : mesh.node_halfpatches(n)) {
-      const PatchId p = PatchOf(g);
-      const HalfpatchId side = g ^ 1;  // the reference tests the side across each halfpatch
-      const BlockId b = mesh.halfpatch_block(side);
-      if (!mesh.patch_critical(p) || b == kNoId) continue;
-      critical_sides.PushToLast(
-          {side, slots.Find(b, n), AxisOf(mesh.patch_face_side(p, SideOf(side)))});
-    }
-  }
-  for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
-    crossing_rotation.push_back(mesh.crossing_rotation(hp));
-  }
-}
-
-SeparationSearch::Impl::Impl(const TMesh& mesh,
-                             std::shared_ptr<const SeparationSearchTables> tables,
+SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearchTables> tables,
                              std::shared_ptr<SeparationSearchScratch> scratch,
                              SeparationSearchOptions options)
     : mesh_(mesh),
       options_(options),
       tables_(std::move(tables)),
-      slots_(tables_->slots),
-      configs_(tables_->configs),
-      config_start_slot_(tables_->config_start_slot),
-      sorted_outgoing_(tables_->sorted_outgoing),
-      halfarc_blocks_(tables_->halfarc_blocks),
-      fan_crossings_(tables_->fan_crossings),
-      critical_sides_(tables_->critical_sides),
-      side_slots_(tables_->side_slots),
-      crossing_rotation_(tables_->crossing_rotation),
+      slots_(tables_->slots()),
+      configs_(tables_->configs()),
       scratch_(scratch != nullptr ? std::move(scratch)
                                   : std::make_shared<SeparationSearchScratch>(slots_, mesh)),
-      positions_(scratch_->positions),
-      side_boxes_(scratch_->side_boxes),
+      positions_(scratch_->positions.get()),
+      side_boxes_(scratch_->side_boxes.get()),
+      geometry_ready_(scratch_->geometry_ready),
       arena_(scratch_->arena),
       queue_(scratch_->queue),
       seen_pre_(scratch_->seen_pre),
@@ -438,11 +220,12 @@ SeparationSearch::Impl::Impl(const TMesh& mesh,
       fan_entries_(scratch_->fan_entries),
       walked_arcs_(scratch_->walked_arcs) {}
 
-void SeparationSearch::Impl::ComputeGeometry(std::span<const int64_t> q) {
-  slots_.ComputePositions(q, positions_);
-  for (HalfpatchId hp = 0; hp < mesh_.num_halfpatches(); ++hp) {
-    const std::span<const SlotId> cycle = side_slots_[hp];
-    if (cycle.empty()) continue;
+void SeparationSearch::Impl::ComputeGeometry(BlockId b) {
+  geometry_ready_.Insert(b);
+  slots_.ComputeBlockPositions(b, q_, {positions_, static_cast<size_t>(slots_.num_slots())});
+  for (const HalfpatchId hp : mesh_.block_halfpatches(b)) {
+    if (mesh_.halfpatch_block(hp) != b) continue;  // another block's side
+    const std::span<const SlotId> cycle = tables_->SideSlots(hp);
     IntBox box = PointBox(positions_[cycle.front()]);
     for (SlotId s : cycle) {
       const IntVec3& p = positions_[s];
@@ -484,7 +267,8 @@ int64_t SeparationSearch::Impl::FindViolations(
                  q.size(), mesh_.num_arcs());
     std::abort();
   }
-  ComputeGeometry(q);
+  q_ = q;
+  geometry_ready_.Clear();
   negative_slack_ = 0;
   for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
   int64_t found = 0;
@@ -520,7 +304,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   start.parent = -1;
   start.step = kNoId;
   start.node = configs_[config].start_node;
-  start.slot = config_start_slot_[config];
+  start.slot = tables_->config_start_slot(config);
   start.k = 0;
   start.rotation = Rotation();  // the identity: the start block's frame is the reference frame
   start.walked = 0;
@@ -582,6 +366,7 @@ void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
   in_fan_.Clear();
   fan_order_.clear();
   const auto add = [this](BlockId b, Rotation rotation, SlotId slot) {
+    EnsureGeometry(b);
     in_fan_.Insert(b);
     fan_rotation_[b] = rotation;
     fan_to_reference_[b] = rotation.Inverse();
@@ -593,7 +378,7 @@ void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
   for (size_t i = 0; i < fan_order_.size(); ++i) {
     const BlockId b = fan_order_[i];
     const SlotId slot = fan_slot_[b];
-    for (const FanCrossing& crossing : fan_crossings_[slot]) {
+    for (const FanCrossing& crossing : tables_->FanCrossings(slot)) {
       if (crossing.neighbor_slot == kNoId) continue;
       const BlockId across = slots_.block_of(crossing.neighbor_slot);
       if (in_fan_.Contains(across)) continue;
@@ -601,7 +386,7 @@ void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
           !TouchesStartBox(PatchBox(walk, crossing.side, slot, fan_to_reference_[b]))) {
         continue;
       }
-      add(across, crossing_rotation_[crossing.side].After(fan_rotation_[b]),
+      add(across, mesh_.crossing_rotation(crossing.side).After(fan_rotation_[b]),
           crossing.neighbor_slot);
     }
   }
@@ -613,12 +398,11 @@ void SeparationSearch::Impl::BuildCandidates(const Walk& walk) {
   candidates_.clear();
   fan_entries_.clear();
   const HalfarcId reversal = walk.branched ? Twin(walk.step) : kNoId;
-  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
-  for (HalfarcId h : sorted_outgoing_[walk.node]) {
+  for (HalfarcId h : tables_->SortedOutgoing(walk.node)) {
     if (h == reversal) continue;
     const int32_t begin = static_cast<int32_t>(fan_entries_.size());
-    const std::span<const HalfarcInBlock> entries = halfarc_blocks_[h];
-    const int32_t offset = static_cast<int32_t>(entries.data() - all_entries);
+    const std::span<const HalfarcInBlock> entries = tables_->HalfarcBlocks(h);
+    const int32_t offset = tables_->HalfarcBlocksIndex(h);
     for (int32_t i = 0; i < static_cast<int32_t>(entries.size()); ++i) {
       if (in_fan_.Contains(entries[i].block)) fan_entries_.push_back(offset + i);
     }
@@ -630,7 +414,7 @@ void SeparationSearch::Impl::BuildCandidates(const Walk& walk) {
 // Section 3.7, tests (a) node, (b) arc, (c) patch, in that order.
 bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_box,
                                                std::span<const int64_t> q, DirSet& dirs,
-                                               SeparationTargetKind& kind, int32_t& target) const {
+                                               SeparationTargetKind& kind, int32_t& target) {
   const DirSet off_link = static_cast<DirSet>(~link_axis_);
   if (mesh_.node_critical(walk.node) && at_start_box) {
     dirs = walk.walked & off_link;
@@ -639,12 +423,11 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
     return true;
   }
 
-  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
   for (const Candidate& candidate : candidates_) {
     const ArcId arc = ArcOf(candidate.halfarc);
     if (!mesh_.arc_critical(arc)) continue;
     // The arc's axis is read in the first of its blocks in the fan, as in the reference.
-    const HalfarcInBlock& entry = all_entries[fan_entries_[candidate.begin]];
+    const HalfarcInBlock& entry = tables_->HalfarcBlockAt(fan_entries_[candidate.begin]);
     Dir along = fan_to_reference_[entry.block].Apply(entry.dir);
     const DirSet approach = walk.walked & off_link & static_cast<DirSet>(~AxisBits(AxisOf(along)));
     if ((approach & walk.monotone) == 0) continue;
@@ -661,7 +444,7 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
     }
   }
 
-  for (const CriticalSide& side : critical_sides_[walk.node]) {
+  for (const CriticalSide& side : tables_->CriticalSides(walk.node)) {
     const BlockId b = slots_.block_of(side.slot);
     if (!in_fan_.Contains(b)) continue;
     const Rotation to_reference = fan_to_reference_[b];
@@ -708,14 +491,13 @@ bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, Blo
 void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
                                     std::span<const int64_t> q) {
   const Walk walk = arena_[walk_index];
-  const HalfarcInBlock* const all_entries = halfarc_blocks_.all_values().data();
   for (const Candidate& candidate : candidates_) {
     const HalfarcId h = candidate.halfarc;
     const ArcId arc = ArcOf(h);
     const NodeId head = mesh_.head(h);
     if (walk.branched && seen_post_.Contains(head)) continue;
     for (int32_t i = candidate.begin; i < candidate.end; ++i) {
-      const HalfarcInBlock& entry = all_entries[fan_entries_[i]];
+      const HalfarcInBlock& entry = tables_->HalfarcBlockAt(fan_entries_[i]);
       if (!Admissible(walk, at_start_box, entry.block)) continue;
       const Dir dir = fan_to_reference_[entry.block].Apply(entry.dir);
       const DirSet dir_bit = DirBit(dir);

@@ -4,14 +4,16 @@
 // row in a default form (mixed axes as signed differences) and a failsafe form (non-negative
 // coefficients only, paper App. B).
 //
-// The search is integer arithmetic on flat arrays; one instance precomputes everything that
-// depends on the mesh alone and reuses its scratch buffers across calls (or shares both with
-// another instance of the same mesh), so one instance serves one thread.
+// The search is integer arithmetic on flat arrays. One instance keeps the tables that depend on
+// the mesh alone (core/separation_search_tables.h, built as the searches read them) and its
+// scratch buffers across calls, or shares both with another instance of the same mesh, so one
+// instance serves one thread. A call computes block positions and patch boxes only for the blocks
+// its fans reach.
 //
-// Why one file of ~750 lines: the walk, its heap order, the fan of candidate moves and the
+// Why one file of ~600 lines: the walk, its heap order, the fan of candidate moves and the
 // admissibility test share one set of invariants (separation.md sections 3-4) and one scratch
-// state; the parts that stand alone are already apart (start configurations, neighbourhoods of
-// halfarcs, block node positions, integer boxes).
+// state; the parts that stand alone are already apart (mesh tables, start configurations,
+// neighbourhoods of halfarcs, block node positions, integer boxes).
 #ifndef ISPQ_CORE_SEPARATION_SEARCH_H_
 #define ISPQ_CORE_SEPARATION_SEARCH_H_
 

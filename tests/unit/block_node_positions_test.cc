@@ -77,5 +77,28 @@ TEST(BlockNodePositionsTest, SharedMeshesArePathIndependent) {
   }
 }
 
+// One block's positions are those of the whole computation, and the other slots are left as they
+// were.
+TEST(BlockNodePositionsTest, OneBlockAtATime) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  for (size_t i = 0; i < files.size(); i += 4) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const BlockNodeSlots slots(mesh);
+    const std::vector<int64_t> q = ConsistentQuantizations(mesh).NearTargets(3.0);
+    std::vector<IntVec3> all(slots.num_slots());
+    slots.ComputePositions(q, all);
+    const IntVec3 untouched = {-7, -7, -7};
+    for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+      std::vector<IntVec3> one(slots.num_slots(), untouched);
+      slots.ComputeBlockPositions(b, q, one);
+      for (SlotId s = 0; s < slots.num_slots(); ++s) {
+        EXPECT_EQ(one[s], slots.block_of(s) == b ? all[s] : untouched) << "block " << b;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ispq

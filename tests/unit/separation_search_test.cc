@@ -288,5 +288,38 @@ TEST(SeparationSearchTest, AlternatingCallsOfSharingSearchesChangeNoAnswer) {
   EXPECT_GT(compared, 0u);
 }
 
+// The mesh tables are built as searches read them and the geometry of each call only for the
+// blocks it reaches (core/separation_search_tables.h): one search called on a sequence of q, in
+// either order, answers every q exactly as a fresh search does, whatever earlier calls built.
+TEST(SeparationSearchTest, ReusedSearchAnswersAsAFreshOneInAnyOrder) {
+  const std::vector<std::string> files = SharedTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  size_t compared = 0;  // violations, so that the test cannot pass on empty lists alone
+  for (size_t i = 0; i < files.size(); i += 3) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    // A q with few zero arcs reaches little of the mesh; the sparse ones reach much more.
+    std::vector<std::vector<int64_t>> qs = {quantizations.NearTargets(4.0)};
+    for (int seed = 1; seed <= 3; ++seed) qs.push_back(SparseConsistentQ(quantizations, seed));
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      std::vector<std::vector<SeparationViolation>> fresh;
+      for (const std::vector<int64_t>& q : qs) {
+        fresh.push_back(SeparationSearch(mesh, {.block_box = mode}).FindViolations(q));
+        compared += fresh.back().size();
+      }
+      SeparationSearch forward(mesh, {.block_box = mode});
+      for (size_t k = 0; k < qs.size(); ++k) {
+        EXPECT_TRUE(SameViolations(forward.FindViolations(qs[k]), fresh[k])) << "q " << k;
+      }
+      SeparationSearch backward(mesh, {.block_box = mode});
+      for (size_t k = qs.size(); k-- > 0;) {
+        EXPECT_TRUE(SameViolations(backward.FindViolations(qs[k]), fresh[k])) << "q " << k;
+      }
+    }
+  }
+  EXPECT_GT(compared, 0u);
+}
+
 }  // namespace
 }  // namespace ispq

@@ -1,0 +1,123 @@
+// The mesh tables of the separation search (shared/separation.md section 6.2): everything it
+// reads that depends on the mesh alone, shared by the searches of one mesh
+// (core/separation_check.h runs two, one after the other on one thread).
+//
+// The slots and the start configurations are built with the tables; every per-element list is
+// built the first time a search asks for it (core/on_demand_lists.h). A search only reads them
+// around the nodes it pops and the blocks of its fans, and on a q with few zero-length arcs that
+// is a small part of the mesh: building all of them up front was most of the wait for a large
+// run's first valid q, whose searches pop little more than the critical entities.
+#ifndef ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
+#define ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/block_node_positions.h"
+#include "core/on_demand_lists.h"
+#include "core/separation_start_configurations.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+// A block around a halfarc (in the radial order around it), the halfarc's direction in the
+// block's frame and the block's slot of the halfarc's head.
+struct HalfarcInBlock {
+  BlockId block;
+  Dir dir;
+  SlotId head_slot;
+  bool operator==(const HalfarcInBlock&) const = default;
+};
+
+// A halfpatch side owned by a slot's block that passes through the slot's node, and the slot of
+// the same node in the block across it (kNoId on the boundary). The fan crosses these.
+struct FanCrossing {
+  HalfpatchId side;
+  SlotId neighbor_slot;
+  bool operator==(const FanCrossing&) const = default;
+};
+
+// A side of a critical patch at a node that has a block: the block's slot of the node and the
+// patch normal's axis in the block's frame (violation test (c)).
+struct CriticalSide {
+  HalfpatchId side;
+  SlotId slot;
+  int normal_axis;
+  bool operator==(const CriticalSide&) const = default;
+};
+
+// The accessors that build a list are not const: the tables grow as searches read them. One
+// thread uses them at a time; a span they return is valid until the next call that builds.
+class SeparationSearchTables {
+ public:
+  // The mesh must outlive the tables.
+  explicit SeparationSearchTables(const TMesh& mesh);
+
+  const BlockNodeSlots& slots() const { return slots_; }
+  const SeparationStartConfigurations& configs() const { return configs_; }
+  SlotId config_start_slot(int config) const { return config_start_slot_[config]; }
+
+  // Outgoing halfarcs of node n, ascending by id.
+  std::span<const HalfarcId> SortedOutgoing(NodeId n) {
+    if (!sorted_outgoing_.built(n)) BuildSortedOutgoing(n);
+    return sorted_outgoing_[n];
+  }
+  // The blocks around halfarc h in its radial order. HalfarcBlockAt(HalfarcBlocksIndex(h) + k)
+  // is entry k for good (h's list built).
+  std::span<const HalfarcInBlock> HalfarcBlocks(HalfarcId h) {
+    if (!halfarc_blocks_.built(h)) BuildHalfarcBlocks(h);
+    return halfarc_blocks_[h];
+  }
+  int32_t HalfarcBlocksIndex(HalfarcId h) const { return halfarc_blocks_.first_index(h); }
+  const HalfarcInBlock& HalfarcBlockAt(int32_t index) const { return halfarc_blocks_.value(index); }
+  // The sides the fan may cross at slot s, in its block's halfpatch order; built for every slot
+  // of the block at once.
+  std::span<const FanCrossing> FanCrossings(SlotId s) {
+    if (!fan_crossings_.built(s)) BuildFanCrossings(slots_.block_of(s));
+    return fan_crossings_[s];
+  }
+  // The sides of critical patches at node n (ascending by incident halfpatch) that have a block.
+  std::span<const CriticalSide> CriticalSides(NodeId n) {
+    if (!critical_sides_.built(n)) BuildCriticalSides(n);
+    return critical_sides_[n];
+  }
+  // The owner's slots of the nodes on halfpatch hp's cycle, in cycle order (empty without an
+  // owner, on the boundary).
+  std::span<const SlotId> SideSlots(HalfpatchId hp) {
+    if (!side_slots_.built(hp)) BuildSideSlots(hp);
+    return side_slots_[hp];
+  }
+
+  // Values in the built lists, for tests and measurements of how much a search needed.
+  size_t num_built_values() const;
+
+ private:
+  void BuildSortedOutgoing(NodeId n);
+  void BuildHalfarcBlocks(HalfarcId h);
+  void BuildFanCrossings(BlockId b);
+  void BuildCriticalSides(NodeId n);
+  void BuildSideSlots(HalfpatchId hp);
+
+  const TMesh& mesh_;
+  const BlockNodeSlots slots_;
+  const SeparationStartConfigurations configs_;
+  std::vector<SlotId> config_start_slot_;
+
+  OnDemandLists<HalfarcId> sorted_outgoing_;      // per node
+  OnDemandLists<HalfarcInBlock> halfarc_blocks_;  // per halfarc
+  OnDemandLists<FanCrossing> fan_crossings_;      // per slot
+  OnDemandLists<CriticalSide> critical_sides_;    // per node
+  OnDemandLists<SlotId> side_slots_;              // per halfpatch
+
+  // Scratch of the builders.
+  std::vector<HalfarcId> outgoing_;
+  std::vector<BlockId> around_;
+  std::vector<HalfpatchId> last_side_;
+  std::vector<int32_t> crossing_end_;
+  std::vector<FanCrossing> crossings_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
