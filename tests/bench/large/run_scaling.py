@@ -24,8 +24,12 @@ rows of long runs made one at a time (ispq_scaling_run prints the same columns w
 two, family and target_arcs). --baseline OLD/scaling.tsv adds the CPU time and objective of every
 run against the same family, size and level of an earlier run (say, of the commit before a change).
 
-Peak memory: the solve's (VmHWM from the end of loading, which returns the loader's memory first)
-and the loader's (parsing the .pb file into protobuf messages) are reported apart.
+Time and memory: each run loads the mesh and solves as `ispq quantize --local` does, reusing the
+memory the loader freed (ispq_scaling_run's header says why the solve is not timed on a cold
+heap). Peak memory is reported three ways: the loader's (parsing the .pb file into protobuf
+messages), the process's while it solves (including what the loader left resident), and the
+solve's own, from a second solve after the freed memory went back to the system
+(--no-cold-memory skips that solve and its column).
 """
 
 import argparse
@@ -70,8 +74,10 @@ def mesh_file(args, family, size):
 def run_one(args, path, level):
     command = [os.path.join(args.bin, "ispq_scaling_run"), "--mesh", path, "--level", str(level),
                "--header", "--time_limit", str(args.time_limit)]
+    if args.cold_memory:
+        command.append("--cold_solve_memory")
     done = subprocess.run(command, capture_output=True, text=True,
-                          timeout=max(60, 3 * args.time_limit))
+                          timeout=max(60, 6 * args.time_limit))
     lines = done.stdout.strip().splitlines()
     if len(lines) != 2:
         raise RuntimeError(f"{' '.join(command)}: {done.stderr.strip()}")
@@ -91,8 +97,15 @@ def fit_exponent(points):
 
 
 def bytes_per_arc(row, key):
-    """Bytes per arc of a MiB column, or None for rows written before the column existed."""
-    return 1024 * 1024 * float(row[key]) / int(row["arcs"]) if row.get(key) else None
+    """Bytes per arc of a MiB column, or None where it was not measured (-1) or rows written
+    before the column existed."""
+    if not row.get(key) or float(row[key]) < 0:
+        return None
+    return 1024 * 1024 * float(row[key]) / int(row["arcs"])
+
+
+def cell(value, digits=0):
+    return "-" if value is None else f"{value:.{digits}f}"
 
 
 def write_markdown(rows, path, fit_range, baseline=None):
@@ -100,8 +113,9 @@ def write_markdown(rows, path, fit_range, baseline=None):
     with open(path, "w") as out:
         out.write("| family | arcs | level | CPU s | greedy | search | separating | layers "
                   "| LP solves | first separating q (CPU s, share, objective / final) "
-                  "| objective | valid | solve peak RSS B/arc | load peak RSS B/arc |\n")
-        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
+                  "| objective | valid | peak RSS B/arc: solve's own (cold) | process while "
+                  "solving | load |\n")
+        out.write("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
             cpu = float(r["cpu_s"])
             first, share = float(r["first_separating_cpu_s"]), first_share(r)
@@ -109,14 +123,14 @@ def write_markdown(rows, path, fit_range, baseline=None):
                 if float(r["objective"]) > 0 else 1
             first_cell = "-" if share is None else \
                 f"{first:.2f} ({100 * share:.0f}%, {first_objective:.2f}x)"
-            load = bytes_per_arc(r, "load_peak_rss_mib")
             out.write(f"| {r['family']} | {r['arcs']} | {r['level']} | {cpu:.2f} | "
                       f"{seconds(r, 'greedy_cpu_s'):.2f} | {seconds(r, 'search_cpu_s'):.2f} | "
                       f"{seconds(r, 'separating_cpu_s'):.2f} | {seconds(r, 'layers_cpu_s'):.3f} | "
                       f"{r['lp_solves']} | {first_cell} | "
                       f"{float(r['objective']):.1f} | {r['valid']} {r['termination']} | "
-                      f"{bytes_per_arc(r, 'peak_rss_mib'):.0f} | "
-                      f"{'-' if load is None else f'{load:.0f}'} |\n")
+                      f"{cell(bytes_per_arc(r, 'cold_solve_peak_rss_mib'))} | "
+                      f"{cell(bytes_per_arc(r, 'peak_rss_mib'))} | "
+                      f"{cell(bytes_per_arc(r, 'load_peak_rss_mib'))} |\n")
         large = [first_share(r) for r in rows if int(r["arcs"]) >= 10000]
         if large:
             late = sum(s is None or s > 0.1 for s in large)
@@ -208,15 +222,15 @@ def plot(rows, path):
     ax.set_title("First separating q, % of the solve's CPU time")
     ax = axes[1][1]
     for family in FAMILIES:
-        sel = sorted((int(r["arcs"]), bytes_per_arc(r, "peak_rss_mib"))
-                     for r in rows if r["family"] == family and int(r["level"]) == 100)
-        if sel:
-            ax.plot(*zip(*sel), marker="o", color=colors[family], label=f"{family}: solve")
-        sel = sorted((int(r["arcs"]), bytes_per_arc(r, "load_peak_rss_mib"))
-                     for r in rows if r["family"] == family and int(r["level"]) == 100 and
-                     r.get("load_peak_rss_mib"))
-        if sel:
-            ax.plot(*zip(*sel), ":", marker="x", color=colors[family], label=f"{family}: load")
+        for key, style, marker, what in [("cold_solve_peak_rss_mib", "-", "o", "solve's own"),
+                                         ("peak_rss_mib", "--", "s", "while solving"),
+                                         ("load_peak_rss_mib", ":", "x", "load")]:
+            sel = sorted((int(r["arcs"]), bytes_per_arc(r, key)) for r in rows
+                         if r["family"] == family and int(r["level"]) == 100 and
+                         bytes_per_arc(r, key) is not None)
+            if sel:
+                ax.plot(*zip(*sel), style, marker=marker, color=colors[family],
+                        label=f"{family}: {what}")
     ax.set_title("Peak RSS per arc, bytes (level 100)")
     for row in axes:
         for ax in row:
@@ -244,6 +258,8 @@ def main():
     parser.add_argument("--fit-range", default="1000,100000")
     parser.add_argument("--report-only", action="store_true")
     parser.add_argument("--baseline", help="scaling.tsv of an earlier run to compare against")
+    parser.add_argument("--no-cold-memory", dest="cold_memory", action="store_false",
+                        help="skip the second solve that measures the solve's own peak memory")
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     tsv_path = os.path.join(args.out, "scaling.tsv")

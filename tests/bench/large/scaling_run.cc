@@ -1,20 +1,25 @@
 // One run of the scaling benchmark (run_scaling.py drives it): quantizes one T-mesh file at one
 // level in-process, single-threaded, and prints one TSV row (with --header, the header first):
 //
-//   ispq_scaling_run --mesh F.tmesh.pb --level P [--header] [--time_limit S]
+//   ispq_scaling_run --mesh F.tmesh.pb --level P [--header] [--time_limit S] [--cold_solve_memory]
 //
 // Columns: arcs, level, the solve's CPU seconds in total and per phase (greedy descent,
 // separation search, separating updates; CPU time of the solving thread), LP solves, separation
 // rounds and rows, subproblems, objective, validity (the validator's verdict), the CPU seconds
 // and objective at the first separating q (the first valid intermediate result a client gets),
-// the peak resident memory (VmHWM, MiB) of the solve at the end of the first greedy descent, at the
-// first separating q and at the end, the peak of loading the mesh file before it, and the CPU
-// seconds of tracing the layered start (core/isp/parametric_layers.h).
+// the peak resident memory (VmHWM, MiB) of the process during the solve at the end of the first
+// greedy descent, at the first separating q and at the end, the peak of loading the mesh file
+// before it, the CPU seconds of tracing the layered start (core/isp/parametric_layers.h) and,
+// with --cold_solve_memory, the solve's own peak (-1 without).
 //
-// Loading parses the file into protobuf messages, whose peak on a large mesh is above anything the
-// solve needs; so after loading, the freed memory is returned to the system (malloc_trim) and
-// the kernel's peak counter is reset (/proc/self/clear_refs, "5"): the solve's columns measure
-// the solve, and load_peak_rss_mib the loader.
+// The timed solve runs as `ispq quantize --local` runs it: the mesh is loaded, its messages are
+// freed, and the solve reuses the freed memory the process keeps. Its peak columns are the
+// process's resident memory while it solves (the kernel's peak counter is reset after loading,
+// /proc/self/clear_refs "5"), so they include what the loader left resident. For the solve's own
+// memory, --cold_solve_memory solves a second time after returning all freed memory to the
+// system (malloc_trim): every page that solve touches is its own. Timing that cold solve instead
+// would count a first-touch page fault for every page (about 12 us each on the development VM),
+// which no real run pays: the first separating q of a 100k-arc part took 2.1-2.5x the CPU.
 #include <malloc.h>
 
 #include <cstdio>
@@ -36,6 +41,8 @@ ABSL_FLAG(bool, header, false, "print the TSV header first");
 ABSL_FLAG(bool, timeline, false,
           "print every progress event (CPU s, phase, sheets, LP solves) to stderr");
 ABSL_FLAG(double, time_limit, std::numeric_limits<double>::infinity(), "seconds");
+ABSL_FLAG(bool, cold_solve_memory, false,
+          "solve again after malloc_trim to measure the solve's own peak memory");
 
 namespace ispq::bench {
 namespace {
@@ -55,11 +62,19 @@ double StatusMib(const char* field) {
 
 double PeakRssMib() { return StatusMib("VmHWM:"); }
 
-// Returns freed memory to the system and restarts the peak counter at the current size.
+// Restarts the kernel's peak counter at the current size.
 void ResetPeakRss() {
-  malloc_trim(0);
   std::ofstream clear_refs("/proc/self/clear_refs");
   clear_refs << "5";
+}
+
+// The peak resident memory of a second solve after the process returned its freed memory to the
+// system: what the solve needs of its own.
+double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options) {
+  malloc_trim(0);
+  ResetPeakRss();
+  if (!Quantize(mesh, options).ok()) return -1;
+  return PeakRssMib();
 }
 
 // Watches the run: memory when the first descent ends, time and objective of the first
@@ -125,25 +140,29 @@ int Run() {
     std::cerr << result.status() << "\n";
     return 1;
   }
+  const double peak_rss = PeakRssMib();
   const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result->q);
   const bool valid = result->valid && report.ok() && report->valid();
+  const double cold_peak_rss =
+      absl::GetFlag(FLAGS_cold_solve_memory) ? ColdSolvePeakRssMib(mesh, options) : -1;
   if (absl::GetFlag(FLAGS_header)) {
     std::printf(
         "arcs\tlevel\tcpu_s\tgreedy_cpu_s\tsearch_cpu_s\tseparating_cpu_s\tlp_solves\t"
         "sep_rounds\tsep_rows\tsubproblems\tobjective\tvalid\ttermination\t"
         "first_separating_cpu_s\tfirst_separating_objective\tgreedy_rss_mib\t"
-        "first_separating_rss_mib\tpeak_rss_mib\tload_peak_rss_mib\tlayers_cpu_s\n");
+        "first_separating_rss_mib\tpeak_rss_mib\tload_peak_rss_mib\tlayers_cpu_s\t"
+        "cold_solve_peak_rss_mib\n");
   }
   const QuantizeStats& s = result->stats;
   std::printf(
       "%d\t%d\t%.4f\t%.4f\t%.4f\t%.4f\t%lld\t%lld\t%lld\t%d\t%.6f\t%d\t%s\t%.4f\t%.6f\t%.1f\t%."
-      "1f\t%.1f\t%.1f\t%.4f\n",
+      "1f\t%.1f\t%.1f\t%.4f\t%.1f\n",
       mesh.num_arcs(), absl::GetFlag(FLAGS_level), cpu, s.greedy_seconds,
       s.separation_search_seconds, s.separating_update_seconds, static_cast<long long>(s.lp_solves),
       static_cast<long long>(s.separation_rounds), static_cast<long long>(s.separation_rows),
       s.subproblems, result->objective, valid ? 1 : 0, TerminationName(result->termination),
       watcher.first_separating_cpu_, watcher.first_separating_objective_, watcher.greedy_rss_,
-      watcher.first_separating_rss_, PeakRssMib(), load_peak_rss, s.layers_seconds);
+      watcher.first_separating_rss_, peak_rss, load_peak_rss, s.layers_seconds, cold_peak_rss);
   return valid ? 0 : 3;
 }
 
