@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <memory>
+#include <new>
 #include <span>
 #include <vector>
 
@@ -28,6 +29,7 @@ class OnDemandLists {
   OnDemandLists(int num_lists, size_t max_values)
       : num_lists_(num_lists),
         ranges_(static_cast<Range*>(std::calloc(static_cast<size_t>(num_lists), sizeof(Range)))) {
+    if (ranges_ == nullptr && num_lists > 0) throw std::bad_alloc();  // as a vector would
     values_.reserve(max_values);
   }
 

@@ -89,7 +89,9 @@ struct SeparationSearchScratch {
 
   std::unique_ptr<IntVec3[]> positions;  // per slot
   std::unique_ptr<IntBox[]> side_boxes;  // per halfpatch
-  StampedSet geometry_ready;             // over blocks: positions and side boxes of this call
+  StampedSet geometry_ready;             // over blocks: positions and side boxes of geometry_q
+  // The q of the geometry: the two searches of a check run on the same q, one after the other.
+  std::vector<int64_t> geometry_q;
   std::vector<Walk> arena;
   std::vector<QueueEntry> queue;
   StampedSet seen_pre, seen_post, branch_offs, pre_branch_arcs, in_fan;
@@ -128,8 +130,8 @@ class SeparationSearch::Impl {
                          const std::function<bool(SeparationViolation&)>& sink);
 
  private:
-  // Per-call state that depends on q only: the positions of block b's slots and the boxes of
-  // the sides it owns (section 6.3), computed the first time a fan of this call reaches b.
+  // What depends on q only: the positions of block b's slots and the boxes of the sides it owns
+  // (section 6.3), computed the first time a fan reaches b on this q.
   void EnsureGeometry(BlockId b) {
     if (!geometry_ready_.Contains(b)) ComputeGeometry(b);
   }
@@ -163,11 +165,13 @@ class SeparationSearch::Impl {
 
   // Buffers, possibly shared with another search of the mesh; the references name their parts.
   const std::shared_ptr<SeparationSearchScratch> scratch_;
-  // Geometry of the current q (section 6.3), valid for the blocks in geometry_ready_.
+  // Geometry of the current q (section 6.3), valid for the blocks in geometry_ready_ (kept from
+  // the last call, of either search sharing the buffers, if it had the same q).
   std::span<const int64_t> q_;
   IntVec3* const positions_;  // per slot
   IntBox* const side_boxes_;  // per owned halfpatch side, in the owner's frame
   StampedSet& geometry_ready_;
+  std::vector<int64_t>& geometry_q_;
 
   // State of the current search.
   IntBox box_{};
@@ -204,6 +208,7 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
       positions_(scratch_->positions.get()),
       side_boxes_(scratch_->side_boxes.get()),
       geometry_ready_(scratch_->geometry_ready),
+      geometry_q_(scratch_->geometry_q),
       arena_(scratch_->arena),
       queue_(scratch_->queue),
       seen_pre_(scratch_->seen_pre),
@@ -268,7 +273,10 @@ int64_t SeparationSearch::Impl::FindViolations(
     std::abort();
   }
   q_ = q;
-  geometry_ready_.Clear();
+  if (!std::equal(q.begin(), q.end(), geometry_q_.begin(), geometry_q_.end())) {
+    geometry_q_.assign(q.begin(), q.end());
+    geometry_ready_.Clear();
+  }
   negative_slack_ = 0;
   for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
   int64_t found = 0;

@@ -1,6 +1,7 @@
 #include "core/separation_search_tables.h"
 
 #include <algorithm>
+#include <new>
 #include <optional>
 
 #include "core/halfarc_neighborhood.h"
@@ -9,11 +10,14 @@ namespace ispq {
 
 namespace {
 
-// Sum over the arcs of 2 * (blocks around the arc): the halfarc blocks of the whole mesh.
-size_t HalfarcBlockPairs(const TMesh& mesh) {
-  size_t pairs = 0;
-  for (ArcId a = 0; a < mesh.num_arcs(); ++a) pairs += 2 * mesh.arc_blocks(a).size();
-  return pairs;
+// Where each arc's (arc, block) pairs start, in the order of mesh.arc_blocks; the last entry is
+// their number.
+std::vector<uint32_t> ArcFirstPair(const TMesh& mesh) {
+  std::vector<uint32_t> first(mesh.num_arcs() + 1, 0);
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    first[a + 1] = first[a] + static_cast<uint32_t>(mesh.arc_blocks(a).size());
+  }
+  return first;
 }
 
 // Sum over the halfpatches of their cycle sizes: a bound on the side slots, on the fan crossings
@@ -32,10 +36,16 @@ SeparationSearchTables::SeparationSearchTables(const TMesh& mesh)
       slots_(mesh),
       configs_(mesh),
       sorted_outgoing_(mesh.num_nodes(), mesh.num_halfarcs()),
-      halfarc_blocks_(mesh.num_halfarcs(), HalfarcBlockPairs(mesh)),
+      arc_first_pair_(ArcFirstPair(mesh)),
+      halfarc_blocks_(mesh.num_halfarcs(), 2 * static_cast<size_t>(arc_first_pair_.back())),
       fan_crossings_(slots_.num_slots(), CycleHalfarcs(mesh)),
       critical_sides_(mesh.num_nodes(), CycleHalfarcs(mesh)),
-      side_slots_(mesh.num_halfpatches(), CycleHalfarcs(mesh)) {
+      side_slots_(mesh.num_halfpatches(), CycleHalfarcs(mesh)),
+      block_passed_(mesh.num_blocks(), 0),
+      arcs_in_blocks_(
+          static_cast<ArcInBlock*>(std::calloc(arc_first_pair_.back(), sizeof(ArcInBlock)))),
+      slot_of_node_(mesh.num_nodes(), kNoId) {
+  if (arcs_in_blocks_ == nullptr && arc_first_pair_.back() > 0) throw std::bad_alloc();
   config_start_slot_.reserve(configs_.size());
   for (int i = 0; i < configs_.size(); ++i) {
     config_start_slot_.push_back(slots_.Find(configs_[i].start_block, configs_[i].start_node));
@@ -49,30 +59,66 @@ void SeparationSearchTables::BuildSortedOutgoing(NodeId n) {
   for (HalfarcId h : outgoing_) sorted_outgoing_.Push(h);
 }
 
+void SeparationSearchTables::PassBlockOnce(BlockId b) {
+  block_passed_[b] = 1;
+  for (SlotId s = slots_.first_slot(b); s < slots_.end_slot(b); ++s) {
+    slot_of_node_[slots_.node_of(s)] = s;
+  }
+  for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
+    if (mesh_.halfpatch_block(side) != b || side_slots_.built(side)) continue;  // not b's
+    side_slots_.Open(side);
+    for (int i = 0; i < mesh_.halfpatch_cycle_size(side); ++i) {
+      side_slots_.Push(slot_of_node_[mesh_.tail(mesh_.HalfpatchCycleAt(side, i))]);
+    }
+  }
+  ArcId previous = kNoId;
+  for (const BlockArc& ba : mesh_.block_arcs(b)) {
+    if (ba.arc == previous) continue;  // the first listing wins, as in a lookup
+    previous = ba.arc;
+    const std::span<const BlockId> blocks = mesh_.arc_blocks(ba.arc);
+    const auto it = std::find(blocks.begin(), blocks.end(), b);
+    if (it == blocks.end()) continue;  // a validated mesh lists every block of an arc
+    arcs_in_blocks_[arc_first_pair_[ba.arc] + (it - blocks.begin())] = {
+        ba.dir, slot_of_node_[mesh_.arc_from(ba.arc)] + 1, slot_of_node_[mesh_.arc_to(ba.arc)] + 1};
+  }
+  for (SlotId s = slots_.first_slot(b); s < slots_.end_slot(b); ++s) {
+    slot_of_node_[slots_.node_of(s)] = kNoId;
+  }
+}
+
+void SeparationSearchTables::AddUnlistedSide(HalfpatchId hp) {
+  side_slots_.Open(hp);
+  for (int i = 0; i < mesh_.halfpatch_cycle_size(hp); ++i) side_slots_.Push(kNoId);
+}
+
 // Halfarc 2a's blocks around it are the arc's blocks as listed (core/tmesh.h); halfarc 2a + 1
 // runs against the arc's direction, from its head to its tail, with its own radial order.
 void SeparationSearchTables::BuildHalfarcBlocks(HalfarcId h) {
+  const ArcId a = ArcOf(h);
+  const std::span<const BlockId> blocks = mesh_.arc_blocks(a);
   if ((h & 1) == 0) {
-    const std::span<const BlockId> blocks = mesh_.arc_blocks(ArcOf(h));
     around_.assign(blocks.begin(), blocks.end());
   } else {
     BlocksAroundHalfarc(mesh_, h, &around_);
   }
   halfarc_blocks_.Open(h);
   for (BlockId b : around_) {
-    // Every block around a halfarc of a validated mesh has the arc on its boundary.
-    const std::optional<Dir> dir = mesh_.HalfarcDirInBlock(h, b);
-    if (!dir.has_value()) continue;
-    halfarc_blocks_.Push({b, *dir, slots_.Find(b, mesh_.head(h))});
-  }
-}
-
-void SeparationSearchTables::BuildSideSlots(HalfpatchId hp) {
-  side_slots_.Open(hp);
-  const BlockId owner = mesh_.halfpatch_block(hp);
-  if (owner == kNoId) return;
-  for (int i = 0; i < mesh_.halfpatch_cycle_size(hp); ++i) {
-    side_slots_.Push(slots_.Find(owner, mesh_.tail(mesh_.HalfpatchCycleAt(hp, i))));
+    const auto it = std::find(blocks.begin(), blocks.end(), b);
+    const ArcInBlock* entry = nullptr;
+    if (it != blocks.end()) {
+      PassBlock(b);
+      entry = &arcs_in_blocks_[arc_first_pair_[a] + (it - blocks.begin())];
+    }
+    if (entry == nullptr || entry->from_slot_plus_one == 0) {
+      // A block around the halfarc whose lists disagree with the arc's (no validated mesh has
+      // one) is looked up; one without the arc on its boundary is left out.
+      const std::optional<Dir> dir = mesh_.HalfarcDirInBlock(h, b);
+      if (dir.has_value()) halfarc_blocks_.Push({b, *dir, slots_.Find(b, mesh_.head(h))});
+    } else if ((h & 1) == 0) {
+      halfarc_blocks_.Push({b, entry->dir, entry->to_slot_plus_one - 1});
+    } else {
+      halfarc_blocks_.Push({b, Opposite(entry->dir), entry->from_slot_plus_one - 1});
+    }
   }
 }
 
@@ -94,7 +140,7 @@ void SeparationSearchTables::BuildFanCrossings(BlockId b) {
     last_side_.assign(count, kNoId);
     for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
       if (mesh_.halfpatch_block(side) != b) continue;
-      const std::span<const SlotId> cycle = side_slots_[side];
+      const std::span<const SlotId> cycle = SideSlots(side);
       for (int i = 0; i < static_cast<int>(cycle.size()); ++i) {
         // A validated block has a slot for every node of its sides' cycles.
         if (cycle[i] == kNoId || last_side_[cycle[i] - first] == side) continue;
@@ -110,7 +156,7 @@ void SeparationSearchTables::BuildFanCrossings(BlockId b) {
   for_each_pair([&](int32_t local, HalfpatchId side, int i) {
     // Position i of the side's cycle is position (size - i) % size of the other side's, whose
     // slots are the block across's (none on the boundary).
-    const std::span<const SlotId> across = side_slots_[side ^ 1];
+    const std::span<const SlotId> across = SideSlots(side ^ 1);
     const int size = mesh_.halfpatch_cycle_size(side);
     crossings_[crossing_end_[local]++] = {side, across.empty() ? kNoId : across[(size - i) % size]};
   });

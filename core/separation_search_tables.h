@@ -3,14 +3,17 @@
 // (core/separation_check.h runs two, one after the other on one thread).
 //
 // The slots and the start configurations are built with the tables; every per-element list is
-// built the first time a search asks for it (core/on_demand_lists.h). A search only reads them
-// around the nodes it pops and the blocks of its fans, and on a q with few zero-length arcs that
-// is a small part of the mesh: building all of them up front was most of the wait for a large
-// run's first valid q, whose searches pop little more than the critical entities.
+// built the first time a search asks for it (core/on_demand_lists.h), from one pass over each
+// block it involves. A search only reads them around the nodes it pops and the blocks of its
+// fans, and on a q with few zero-length arcs that is a small part of the mesh: building all of
+// them up front was most of the wait for a large run's first valid q, whose searches pop little
+// more than the critical links.
 #ifndef ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
 #define ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
 
 #include <cstdint>
+#include <cstdlib>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -85,7 +88,10 @@ class SeparationSearchTables {
   // The owner's slots of the nodes on halfpatch hp's cycle, in cycle order (empty without an
   // owner, on the boundary).
   std::span<const SlotId> SideSlots(HalfpatchId hp) {
-    if (!side_slots_.built(hp)) BuildSideSlots(hp);
+    const BlockId owner = mesh_.halfpatch_block(hp);
+    if (owner == kNoId) return {};
+    PassBlock(owner);
+    if (!side_slots_.built(hp)) AddUnlistedSide(hp);
     return side_slots_[hp];
   }
 
@@ -93,11 +99,32 @@ class SeparationSearchTables {
   size_t num_built_values() const;
 
  private:
+  // An arc (as halfarc 2a) in one of its blocks: its direction in the block's frame and the
+  // block's slots of its ends, plus one (0: the block's pass did not write it). One per
+  // (arc, block) pair, in the order of mesh.arc_blocks.
+  struct ArcInBlock {
+    Dir dir;
+    SlotId from_slot_plus_one;
+    SlotId to_slot_plus_one;
+  };
+  struct Free {
+    void operator()(void* p) const { std::free(p); }
+  };
+
+  // What block b alone determines, once: the slots of the sides it owns and its arcs in it,
+  // read through a node -> slot map of the block. Binary searches of the block's slots and arcs
+  // per entry instead made the runs of the shared set 5% slower (searches there reach every
+  // block, and the whole-mesh block pass this replaces had the map).
+  void PassBlock(BlockId b) {
+    if (!block_passed_[b]) PassBlockOnce(b);
+  }
+  void PassBlockOnce(BlockId b);
+  // A side its owner does not list among its halfpatches (no validated mesh has one): no slots.
+  void AddUnlistedSide(HalfpatchId hp);
   void BuildSortedOutgoing(NodeId n);
   void BuildHalfarcBlocks(HalfarcId h);
   void BuildFanCrossings(BlockId b);
   void BuildCriticalSides(NodeId n);
-  void BuildSideSlots(HalfpatchId hp);
 
   const TMesh& mesh_;
   const BlockNodeSlots slots_;
@@ -105,10 +132,16 @@ class SeparationSearchTables {
   std::vector<SlotId> config_start_slot_;
 
   OnDemandLists<HalfarcId> sorted_outgoing_;      // per node
+  std::vector<uint32_t> arc_first_pair_;          // per arc + 1: its first entry in arcs_in_blocks_
   OnDemandLists<HalfarcInBlock> halfarc_blocks_;  // per halfarc
   OnDemandLists<FanCrossing> fan_crossings_;      // per slot
   OnDemandLists<CriticalSide> critical_sides_;    // per node
-  OnDemandLists<SlotId> side_slots_;              // per halfpatch
+  OnDemandLists<SlotId> side_slots_;              // per halfpatch with an owner
+
+  std::vector<uint8_t> block_passed_;  // per block
+  // Written by the passes of their blocks; zero (from calloc: fresh pages stay untouched) before.
+  std::unique_ptr<ArcInBlock[], Free> arcs_in_blocks_;
+  std::vector<SlotId> slot_of_node_;  // of the block in its pass, kNoId elsewhere
 
   // Scratch of the builders.
   std::vector<HalfarcId> outgoing_;

@@ -121,17 +121,29 @@ TEST(SeparationSearchTablesTest, ListsAgreeWithTheMesh) {
   }
 }
 
-// Asking for one list builds that list (and, for a fan crossing, its block's), nothing else.
+// Asking for a list builds it and what the passes of its blocks give (the slots of the sides they
+// own), nothing more; asking again builds nothing.
 TEST(SeparationSearchTablesTest, BuildsOnlyWhatIsAskedFor) {
   const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
   SeparationSearchTables tables(mesh);
   EXPECT_EQ(tables.num_built_values(), 0u);
+  size_t side_slots = 0;
+  for (const BlockId b : mesh.arc_blocks(0)) {
+    for (const HalfpatchId side : mesh.block_halfpatches(b)) {
+      if (mesh.halfpatch_block(side) == b) side_slots += mesh.halfpatch_cycle_size(side);
+    }
+  }
   const size_t halfarc_entries = tables.HalfarcBlocks(0).size();
-  EXPECT_EQ(tables.num_built_values(), halfarc_entries);
+  EXPECT_EQ(tables.num_built_values(), halfarc_entries + side_slots);
   tables.HalfarcBlocks(0);
-  EXPECT_EQ(tables.num_built_values(), halfarc_entries);
+  EXPECT_EQ(tables.num_built_values(), halfarc_entries + side_slots);
   const size_t outgoing = tables.SortedOutgoing(0).size();
-  EXPECT_EQ(tables.num_built_values(), halfarc_entries + outgoing);
+  EXPECT_EQ(tables.num_built_values(), halfarc_entries + side_slots + outgoing);
+  size_t all_side_slots = 0;
+  for (HalfpatchId hp = 0; hp < mesh.num_halfpatches(); ++hp) {
+    if (mesh.halfpatch_block(hp) != kNoId) all_side_slots += mesh.halfpatch_cycle_size(hp);
+  }
+  EXPECT_LT(side_slots, all_side_slots);
 }
 
 }  // namespace
