@@ -1,7 +1,7 @@
 // The anytime start of a large ISP run (IspTuning::layered_start_min_arcs): the q of the
 // parametrization's layers (core/isp/parametric_layers.h), checked for consistency and by the
 // run's separation check, and reported as its first valid q (phase LAYERS) before the engine
-// builds its LPs. On a 100k-arc part that is 0.26-0.36 s CPU into a run of 1.7-11 s; the ISP
+// builds its LPs. On a 100k-arc part that is 0.09-0.13 s CPU into a run of 1.4-9.8 s; the ISP
 // path that follows starts from q = 0 as always, and only replaces this q once it finds a better
 // valid one.
 #ifndef ISPQ_CORE_ISP_LAYERED_START_H_
