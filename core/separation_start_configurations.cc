@@ -66,13 +66,14 @@ std::vector<HalfarcId> SectorBranchOffs(const TMesh& mesh, std::span<const Halfa
 }  // namespace
 
 SeparationStartConfigurations::SeparationStartConfigurations(const TMesh& mesh) {
+  std::vector<uint8_t> in_link(mesh.num_halfarcs(), 0);
   for (EntityId e = 0; e < mesh.num_entities(); ++e) {
     switch (mesh.entity_dim(e)) {
       case EntityDim::kNode:
         AddNodeConfigurations(mesh, e);
         break;
       case EntityDim::kLink:
-        AddLinkConfigurations(mesh, e);
+        AddLinkConfigurations(mesh, e, in_link);
         break;
       case EntityDim::kRegion:
         break;  // regions never start a search (separation.md section 2.3)
@@ -97,10 +98,10 @@ void SeparationStartConfigurations::AddNodeConfigurations(const TMesh& mesh, Ent
   }
 }
 
-void SeparationStartConfigurations::AddLinkConfigurations(const TMesh& mesh, EntityId e) {
+void SeparationStartConfigurations::AddLinkConfigurations(const TMesh& mesh, EntityId e,
+                                                          std::vector<uint8_t>& in_link) {
   const std::span<const HalfarcId> link = mesh.entity_halfarcs(e);
   const HalfarcId first = link.front();
-  std::vector<uint8_t> in_link(mesh.num_halfarcs(), 0);
   for (HalfarcId h : link) in_link[h] = 1;
 
   std::vector<ArcId> pre_branch_arcs = {ArcOf(first)};
@@ -108,6 +109,7 @@ void SeparationStartConfigurations::AddLinkConfigurations(const TMesh& mesh, Ent
   for (HalfpatchId side : HalfpatchesAroundHalfarc(mesh, first)) {
     sectors.push_back(SectorBranchOffs(mesh, link, in_link, side, pre_branch_arcs));
   }
+  for (HalfarcId h : link) in_link[h] = 0;
   std::sort(pre_branch_arcs.begin(), pre_branch_arcs.end());
   pre_branch_arcs.erase(std::unique(pre_branch_arcs.begin(), pre_branch_arcs.end()),
                         pre_branch_arcs.end());

@@ -49,7 +49,9 @@ class SeparationStartConfigurations {
 
  private:
   void AddNodeConfigurations(const TMesh& mesh, EntityId e);
-  void AddLinkConfigurations(const TMesh& mesh, EntityId e);
+  // `in_link` is all zero over the halfarcs on entry and on return (one array for all links:
+  // a fresh one per link cost O(links * halfarcs)).
+  void AddLinkConfigurations(const TMesh& mesh, EntityId e, std::vector<uint8_t>& in_link);
 
   std::vector<SeparationStartConfiguration> configs_;
   FlatLists<HalfarcId> branch_offs_;
