@@ -15,17 +15,22 @@ BlockNodeSlots::BlockNodeSlots(const TMesh& mesh) {
   slot_block_.reserve(boundary_arcs + num_blocks);
   tree_steps_.reserve(boundary_arcs);
   std::vector<NodeId> nodes;
-  // Per block: slots for the endpoints of its boundary arcs, ascending by node id.
+  std::vector<uint8_t> listed(mesh.num_nodes(), 0);  // in `nodes` of the current block
+  // Per block: slots for the endpoints of its boundary arcs, ascending by node id. Each node
+  // ends about three arcs of a block, so it is listed once before sorting, not once per arc.
   for (BlockId b = 0; b < num_blocks; ++b) {
     block_first_slot_.push_back(static_cast<SlotId>(slot_node_.size()));
     nodes.clear();
     for (const BlockArc& ba : mesh.block_arcs(b)) {
-      nodes.push_back(mesh.arc_from(ba.arc));
-      nodes.push_back(mesh.arc_to(ba.arc));
+      for (const NodeId n : {mesh.arc_from(ba.arc), mesh.arc_to(ba.arc)}) {
+        if (listed[n]) continue;
+        listed[n] = 1;
+        nodes.push_back(n);
+      }
     }
     std::sort(nodes.begin(), nodes.end());
-    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
     for (NodeId n : nodes) {
+      listed[n] = 0;
       slot_node_.push_back(n);
       slot_block_.push_back(b);
     }
