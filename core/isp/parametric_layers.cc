@@ -93,13 +93,14 @@ class LayerTracer {
       const std::optional<Dir> dir = SideDirOf(p, a);
       if (!dir.has_value()) continue;
       const int axis = AxisOf(*dir);
-      const BlockId b = mesh_.patch_ref_block(p);
-      const double from = Coordinate(b, mesh_.arc_from(a), axis);
-      const double to = Coordinate(b, mesh_.arc_to(a), axis);
       const int32_t row = 3 * p + axis;
       if (balance_[row] == 0) touched_.push_back(row);
       balance_[row] += SignOf(*dir);
-      if (balance_[row] != 0) pending_.push_back({p, axis, from + t * (to - from)});
+      if (balance_[row] == 0) continue;  // this crossing balanced the row: nothing to follow
+      const BlockId b = mesh_.patch_ref_block(p);
+      const double from = Coordinate(b, mesh_.arc_from(a), axis);
+      const double to = Coordinate(b, mesh_.arc_to(a), axis);
+      pending_.push_back({p, axis, from + t * (to - from)});
     }
   }
 
@@ -125,10 +126,17 @@ class LayerTracer {
       const PatchSide side = mesh_.patch_side(p, i);
       if (side.dir != dir) continue;
       work_left_ -= static_cast<int64_t>(side.halfarcs.size());
+      // Consecutive halfarcs of a side share a node (unless the side wraps around the start of
+      // the cycle): its coordinate is looked up once.
+      NodeId head = kNoId;
+      double at_head = 0;
       for (const HalfarcId h : side.halfarcs) {
         const ArcId a = ArcOf(h);
-        const double from = Coordinate(b, mesh_.arc_from(a), axis);
-        const double to = Coordinate(b, mesh_.arc_to(a), axis);
+        const double at_tail = mesh_.tail(h) == head ? at_head : Coordinate(b, mesh_.tail(h), axis);
+        head = mesh_.head(h);
+        at_head = Coordinate(b, head, axis);
+        const double from = (h & 1) ? at_head : at_tail;  // at arc_from
+        const double to = (h & 1) ? at_tail : at_head;    // at arc_to
         const double fraction = std::clamp((coordinate - from) / (to - from), 0.0, 1.0);
         const double distance = std::abs(from + fraction * (to - from) - coordinate);
         if (distance < best_distance) {
