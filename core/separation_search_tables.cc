@@ -59,11 +59,15 @@ void SeparationSearchTables::BuildSortedOutgoing(NodeId n) {
   for (HalfarcId h : outgoing_) sorted_outgoing_.Push(h);
 }
 
-void SeparationSearchTables::PassBlockOnce(BlockId b) {
-  block_passed_[b] = 1;
+void SeparationSearchTables::MapNodesOf(BlockId b, bool mapped) {
   for (SlotId s = slots_.first_slot(b); s < slots_.end_slot(b); ++s) {
-    slot_of_node_[slots_.node_of(s)] = s;
+    slot_of_node_[slots_.node_of(s)] = mapped ? s : kNoId;
   }
+}
+
+void SeparationSearchTables::PassSidesOnce(BlockId b) {
+  block_passed_[b] |= kSidesPassed;
+  MapNodesOf(b, true);
   for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
     if (mesh_.halfpatch_block(side) != b || side_slots_.built(side)) continue;  // not b's
     side_slots_.Open(side);
@@ -71,6 +75,12 @@ void SeparationSearchTables::PassBlockOnce(BlockId b) {
       side_slots_.Push(slot_of_node_[mesh_.tail(mesh_.HalfpatchCycleAt(side, i))]);
     }
   }
+  MapNodesOf(b, false);
+}
+
+void SeparationSearchTables::PassArcsOnce(BlockId b) {
+  block_passed_[b] |= kArcsPassed;
+  MapNodesOf(b, true);
   ArcId previous = kNoId;
   for (const BlockArc& ba : mesh_.block_arcs(b)) {
     if (ba.arc == previous) continue;  // the first listing wins, as in a lookup
@@ -81,9 +91,7 @@ void SeparationSearchTables::PassBlockOnce(BlockId b) {
     arcs_in_blocks_[arc_first_pair_[ba.arc] + (it - blocks.begin())] = {
         ba.dir, slot_of_node_[mesh_.arc_from(ba.arc)] + 1, slot_of_node_[mesh_.arc_to(ba.arc)] + 1};
   }
-  for (SlotId s = slots_.first_slot(b); s < slots_.end_slot(b); ++s) {
-    slot_of_node_[slots_.node_of(s)] = kNoId;
-  }
+  MapNodesOf(b, false);
 }
 
 void SeparationSearchTables::AddUnlistedSide(HalfpatchId hp) {
@@ -106,7 +114,7 @@ void SeparationSearchTables::BuildHalfarcBlocks(HalfarcId h) {
     const auto it = std::find(blocks.begin(), blocks.end(), b);
     const ArcInBlock* entry = nullptr;
     if (it != blocks.end()) {
-      PassBlock(b);
+      PassArcs(b);
       entry = &arcs_in_blocks_[arc_first_pair_[a] + (it - blocks.begin())];
     }
     if (entry == nullptr || entry->from_slot_plus_one == 0) {

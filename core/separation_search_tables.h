@@ -90,7 +90,7 @@ class SeparationSearchTables {
   std::span<const SlotId> SideSlots(HalfpatchId hp) {
     const BlockId owner = mesh_.halfpatch_block(hp);
     if (owner == kNoId) return {};
-    PassBlock(owner);
+    PassSides(owner);
     if (!side_slots_.built(hp)) AddUnlistedSide(hp);
     return side_slots_[hp];
   }
@@ -111,14 +111,21 @@ class SeparationSearchTables {
     void operator()(void* p) const { std::free(p); }
   };
 
-  // What block b alone determines, once: the slots of the sides it owns and its arcs in it,
+  // What block b alone determines, each once: the slots of the sides it owns and its arcs in it,
   // read through a node -> slot map of the block. Binary searches of the block's slots and arcs
   // per entry instead made the runs of the shared set 5% slower (searches there reach every
-  // block, and the whole-mesh block pass this replaces had the map).
-  void PassBlock(BlockId b) {
-    if (!block_passed_[b]) PassBlockOnce(b);
+  // block, and the whole-mesh block pass this replaces had the map). Apart, because a fan's
+  // crossings need the sides of the blocks next to it, not their arcs.
+  enum BlockPass : uint8_t { kSidesPassed = 1, kArcsPassed = 2 };
+  void PassSides(BlockId b) {
+    if ((block_passed_[b] & kSidesPassed) == 0) PassSidesOnce(b);
   }
-  void PassBlockOnce(BlockId b);
+  void PassArcs(BlockId b) {
+    if ((block_passed_[b] & kArcsPassed) == 0) PassArcsOnce(b);
+  }
+  void PassSidesOnce(BlockId b);
+  void PassArcsOnce(BlockId b);
+  void MapNodesOf(BlockId b, bool mapped);
   // A side its owner does not list among its halfpatches (no validated mesh has one): no slots.
   void AddUnlistedSide(HalfpatchId hp);
   void BuildSortedOutgoing(NodeId n);
@@ -138,7 +145,7 @@ class SeparationSearchTables {
   OnDemandLists<CriticalSide> critical_sides_;    // per node
   OnDemandLists<SlotId> side_slots_;              // per halfpatch with an owner
 
-  std::vector<uint8_t> block_passed_;  // per block
+  std::vector<uint8_t> block_passed_;  // per block: BlockPass bits
   // Written by the passes of their blocks; zero (from calloc: fresh pages stay untouched) before.
   std::unique_ptr<ArcInBlock[], Free> arcs_in_blocks_;
   std::vector<SlotId> slot_of_node_;  // of the block in its pass, kNoId elsewhere
