@@ -13,10 +13,4 @@ std::optional<Dir> TMesh::HalfarcDirInBlock(HalfarcId h, BlockId b) const {
   return (h & 1) ? Opposite(it->dir) : it->dir;
 }
 
-HalfarcId TMesh::HalfpatchCycleAt(HalfpatchId hp, int i) const {
-  const std::span<const HalfarcId> cycle = patch_cycle_[hp >> 1];
-  if ((hp & 1) == 0) return cycle[i];
-  return Twin(cycle[cycle.size() - 1 - i]);
-}
-
 }  // namespace ispq

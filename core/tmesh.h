@@ -141,7 +141,11 @@ class TMesh {
   int halfpatch_cycle_size(HalfpatchId hp) const {
     return static_cast<int>(patch_cycle_[hp >> 1].size());
   }
-  HalfarcId HalfpatchCycleAt(HalfpatchId hp, int i) const;
+  HalfarcId HalfpatchCycleAt(HalfpatchId hp, int i) const {
+    const std::span<const HalfarcId> cycle = patch_cycle_[hp >> 1];
+    if ((hp & 1) == 0) return cycle[i];
+    return Twin(cycle[cycle.size() - 1 - i]);
+  }
   BlockId patch_ref_block(PatchId p) const { return patch_ref_block_[p]; }
   // Side i in 0..3 of the patch; sides come in upstream enum order of their direction.
   PatchSide patch_side(PatchId p, int i) const {
