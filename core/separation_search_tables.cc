@@ -130,49 +130,20 @@ void SeparationSearchTables::BuildHalfarcBlocks(HalfarcId h) {
   }
 }
 
-// Block b's sides, in its halfpatch order, add themselves to the slots of the nodes on their
-// cycles, so the sides of each slot come in that order; a node twice in a cycle counts once.
-void SeparationSearchTables::BuildFanCrossings(BlockId b) {
-  const SlotId first = slots_.first_slot(b);
-  const int count = slots_.end_slot(b) - first;
-  // The owner's and the across block's slots of every side (built first: building one list
-  // moves the spans of the others).
+// The sides of slot s's block through its node, in the block's halfpatch order, each with the
+// slot of the node in the block across. A slot at a time: a fan enters a block at one or two of
+// its slots, and building the crossings of all of them (with the sides of every block across)
+// was most of the work of a large run's first searches.
+void SeparationSearchTables::BuildFanCrossings(SlotId s) {
+  const BlockId b = slots_.block_of(s);
+  const NodeId n = slots_.node_of(s);
+  const std::span<const HalfpatchId> at_node = mesh_.node_halfpatches(n);  // ascending
+  fan_crossings_.Open(s);
   for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
-    if (mesh_.halfpatch_block(side) != b) continue;  // its slots are another block's
-    SideSlots(side);
-    SideSlots(side ^ 1);
-  }
-  // Calls `visit(local slot, side, i)` for every (slot, side through its node) pair, the node at
-  // position i of the side's cycle.
-  const auto for_each_pair = [&](const auto& visit) {
-    last_side_.assign(count, kNoId);
-    for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
-      if (mesh_.halfpatch_block(side) != b) continue;
-      const std::span<const SlotId> cycle = SideSlots(side);
-      for (int i = 0; i < static_cast<int>(cycle.size()); ++i) {
-        // A validated block has a slot for every node of its sides' cycles.
-        if (cycle[i] == kNoId || last_side_[cycle[i] - first] == side) continue;
-        last_side_[cycle[i] - first] = side;
-        visit(cycle[i] - first, side, i);
-      }
-    }
-  };
-  crossing_end_.assign(count + 1, 0);  // counts, then prefix sums, then each slot's end
-  for_each_pair([&](int32_t local, HalfpatchId, int) { ++crossing_end_[local + 1]; });
-  for (int i = 0; i < count; ++i) crossing_end_[i + 1] += crossing_end_[i];
-  crossings_.resize(crossing_end_[count]);
-  for_each_pair([&](int32_t local, HalfpatchId side, int i) {
-    // Position i of the side's cycle is position (size - i) % size of the other side's, whose
-    // slots are the block across's (none on the boundary).
-    const std::span<const SlotId> across = SideSlots(side ^ 1);
-    const int size = mesh_.halfpatch_cycle_size(side);
-    crossings_[crossing_end_[local]++] = {side, across.empty() ? kNoId : across[(size - i) % size]};
-  });
-  for (int i = 0; i < count; ++i) {
-    fan_crossings_.Open(first + i);
-    for (int e = i == 0 ? 0 : crossing_end_[i - 1]; e < crossing_end_[i]; ++e) {
-      fan_crossings_.Push(crossings_[e]);
-    }
+    if (mesh_.halfpatch_block(side) != b) continue;  // another block's side
+    if (!std::binary_search(at_node.begin(), at_node.end(), side)) continue;
+    const BlockId across = mesh_.halfpatch_block(side ^ 1);
+    fan_crossings_.Push({side, across == kNoId ? kNoId : slots_.Find(across, n)});
   }
 }
 

@@ -74,10 +74,9 @@ class SeparationSearchTables {
   }
   int32_t HalfarcBlocksIndex(HalfarcId h) const { return halfarc_blocks_.first_index(h); }
   const HalfarcInBlock& HalfarcBlockAt(int32_t index) const { return halfarc_blocks_.value(index); }
-  // The sides the fan may cross at slot s, in its block's halfpatch order; built for every slot
-  // of the block at once.
+  // The sides the fan may cross at slot s, in its block's halfpatch order.
   std::span<const FanCrossing> FanCrossings(SlotId s) {
-    if (!fan_crossings_.built(s)) BuildFanCrossings(slots_.block_of(s));
+    if (!fan_crossings_.built(s)) BuildFanCrossings(s);
     return fan_crossings_[s];
   }
   // The sides of critical patches at node n (ascending by incident halfpatch) that have a block.
@@ -111,11 +110,11 @@ class SeparationSearchTables {
     void operator()(void* p) const { std::free(p); }
   };
 
-  // What block b alone determines, each once: the slots of the sides it owns and its arcs in it,
-  // read through a node -> slot map of the block. Binary searches of the block's slots and arcs
-  // per entry instead made the runs of the shared set 5% slower (searches there reach every
-  // block, and the whole-mesh block pass this replaces had the map). Apart, because a fan's
-  // crossings need the sides of the blocks next to it, not their arcs.
+  // What block b alone determines, each once: the slots of the sides it owns (for its side
+  // boxes) and its arcs in it (for halfarc lists), read through a node -> slot map of the block.
+  // Binary searches of the block's slots and arcs per entry instead made the runs of the shared
+  // set 5% slower (searches there reach every block, and the whole-mesh block pass this replaces
+  // had the map).
   enum BlockPass : uint8_t { kSidesPassed = 1, kArcsPassed = 2 };
   void PassSides(BlockId b) {
     if ((block_passed_[b] & kSidesPassed) == 0) PassSidesOnce(b);
@@ -130,7 +129,7 @@ class SeparationSearchTables {
   void AddUnlistedSide(HalfpatchId hp);
   void BuildSortedOutgoing(NodeId n);
   void BuildHalfarcBlocks(HalfarcId h);
-  void BuildFanCrossings(BlockId b);
+  void BuildFanCrossings(SlotId s);
   void BuildCriticalSides(NodeId n);
 
   const TMesh& mesh_;
@@ -153,9 +152,6 @@ class SeparationSearchTables {
   // Scratch of the builders.
   std::vector<HalfarcId> outgoing_;
   std::vector<BlockId> around_;
-  std::vector<HalfpatchId> last_side_;
-  std::vector<int32_t> crossing_end_;
-  std::vector<FanCrossing> crossings_;
 };
 
 }  // namespace ispq
