@@ -10,11 +10,10 @@
 #define ISPQ_CORE_ON_DEMAND_LISTS_H_
 
 #include <cstdint>
-#include <cstdlib>
-#include <memory>
-#include <new>
 #include <span>
 #include <vector>
+
+#include "core/zeroed_array.h"
 
 namespace ispq {
 
@@ -24,12 +23,9 @@ class OnDemandLists {
   // `max_values` bounds the values of all lists together. Room for them is reserved at once, so
   // that building lists never copies the values built before; the room only costs memory where
   // values are written. Neither that room nor the per-list bookkeeping is written up front
-  // (calloc hands out fresh pages as they are, zero), so unread parts of a large table are never
-  // touched.
+  // (core/zeroed_array.h), so unread parts of a large table are never touched.
   OnDemandLists(int num_lists, size_t max_values)
-      : num_lists_(num_lists),
-        ranges_(static_cast<Range*>(std::calloc(static_cast<size_t>(num_lists), sizeof(Range)))) {
-    if (ranges_ == nullptr && num_lists > 0) throw std::bad_alloc();  // as a vector would
+      : num_lists_(num_lists), ranges_(MakeZeroedArray<Range>(static_cast<size_t>(num_lists))) {
     values_.reserve(max_values);
   }
 
@@ -61,14 +57,11 @@ class OnDemandLists {
  private:
   // 0 in size_plus_one: not built yet.
   struct Range {
-    uint32_t begin = 0;
-    uint32_t size_plus_one = 0;
-  };
-  struct Free {
-    void operator()(Range* p) const { std::free(p); }
+    uint32_t begin;
+    uint32_t size_plus_one;
   };
   int num_lists_;
-  std::unique_ptr<Range[], Free> ranges_;
+  ZeroedArray<Range> ranges_;
   std::vector<T> values_;
   int open_ = -1;
 };

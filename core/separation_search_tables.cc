@@ -1,7 +1,6 @@
 #include "core/separation_search_tables.h"
 
 #include <algorithm>
-#include <new>
 #include <optional>
 
 #include "core/halfarc_neighborhood.h"
@@ -42,10 +41,8 @@ SeparationSearchTables::SeparationSearchTables(const TMesh& mesh)
       critical_sides_(mesh.num_nodes(), CycleHalfarcs(mesh)),
       side_slots_(mesh.num_halfpatches(), CycleHalfarcs(mesh)),
       block_passed_(mesh.num_blocks(), 0),
-      arcs_in_blocks_(
-          static_cast<ArcInBlock*>(std::calloc(arc_first_pair_.back(), sizeof(ArcInBlock)))),
+      arcs_in_blocks_(MakeZeroedArray<ArcInBlock>(arc_first_pair_.back())),
       slot_of_node_(mesh.num_nodes(), kNoId) {
-  if (arcs_in_blocks_ == nullptr && arc_first_pair_.back() > 0) throw std::bad_alloc();
   config_start_slot_.reserve(configs_.size());
   for (int i = 0; i < configs_.size(); ++i) {
     config_start_slot_.push_back(slots_.Find(configs_[i].start_block, configs_[i].start_node));

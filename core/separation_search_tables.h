@@ -12,8 +12,6 @@
 #define ISPQ_CORE_SEPARATION_SEARCH_TABLES_H_
 
 #include <cstdint>
-#include <cstdlib>
-#include <memory>
 #include <span>
 #include <vector>
 
@@ -21,6 +19,7 @@
 #include "core/on_demand_lists.h"
 #include "core/separation_start_configurations.h"
 #include "core/tmesh.h"
+#include "core/zeroed_array.h"
 
 namespace ispq {
 
@@ -106,10 +105,6 @@ class SeparationSearchTables {
     SlotId from_slot_plus_one;
     SlotId to_slot_plus_one;
   };
-  struct Free {
-    void operator()(void* p) const { std::free(p); }
-  };
-
   // What block b alone determines, each once: the slots of the sides it owns (for its side
   // boxes) and its arcs in it (for halfarc lists), read through a node -> slot map of the block.
   // Binary searches of the block's slots and arcs per entry instead made the runs of the shared
@@ -145,8 +140,8 @@ class SeparationSearchTables {
   OnDemandLists<SlotId> side_slots_;              // per halfpatch with an owner
 
   std::vector<uint8_t> block_passed_;  // per block: BlockPass bits
-  // Written by the passes of their blocks; zero (from calloc: fresh pages stay untouched) before.
-  std::unique_ptr<ArcInBlock[], Free> arcs_in_blocks_;
+  // Written by the passes of their blocks; zero before (unwritten: see core/zeroed_array.h).
+  ZeroedArray<ArcInBlock> arcs_in_blocks_;
   std::vector<SlotId> slot_of_node_;  // of the block in its pass, kNoId elsewhere
 
   // Scratch of the builders.
