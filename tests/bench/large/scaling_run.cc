@@ -10,7 +10,8 @@
 // the peak resident memory (VmHWM, MiB) of the process during the solve at the end of the first
 // greedy descent, at the first separating q and at the end, the peak of loading the mesh file
 // before it, the CPU seconds of tracing the layered start (core/isp/parametric_layers.h) and,
-// with --cold_solve_memory, the solve's own peak (-1 without).
+// with --cold_solve_memory, the solve's own peak (-1 without, or if that second solve did not end
+// with the same q).
 //
 // The timed solve runs as `ispq quantize --local` runs it: the mesh is loaded, its messages are
 // freed, and the solve reuses the freed memory the process keeps. Its peak columns are the
@@ -22,11 +23,13 @@
 // which no real run pays: the first separating q of a 100k-arc part took 2.1-2.5x the CPU.
 #include <malloc.h>
 
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
@@ -69,12 +72,19 @@ void ResetPeakRss() {
 }
 
 // The peak resident memory of a second solve after the process returned its freed memory to the
-// system: what the solve needs of its own.
-double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options) {
+// system: what the solve needs of its own. The solve is deterministic, so its q must be the timed
+// solve's (which the validator certified); -1 if it is not.
+double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options,
+                           const std::vector<int64_t>& timed_q) {
   malloc_trim(0);
   ResetPeakRss();
-  if (!Quantize(mesh, options).ok()) return -1;
-  return PeakRssMib();
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+  const double peak = PeakRssMib();
+  if (!result.ok() || result->q != timed_q) {
+    std::cerr << "the second solve did not end with the timed solve's q\n";
+    return -1;
+  }
+  return peak;
 }
 
 // Watches the run: memory when the first descent ends, time and objective of the first
@@ -144,7 +154,7 @@ int Run() {
   const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, result->q);
   const bool valid = result->valid && report.ok() && report->valid();
   const double cold_peak_rss =
-      absl::GetFlag(FLAGS_cold_solve_memory) ? ColdSolvePeakRssMib(mesh, options) : -1;
+      absl::GetFlag(FLAGS_cold_solve_memory) ? ColdSolvePeakRssMib(mesh, options, result->q) : -1;
   if (absl::GetFlag(FLAGS_header)) {
     std::printf(
         "arcs\tlevel\tcpu_s\tgreedy_cpu_s\tsearch_cpu_s\tseparating_cpu_s\tlp_solves\t"
