@@ -165,9 +165,9 @@ class SeparationSearch::Impl {
 
   // Buffers, possibly shared with another search of the mesh; the references name their parts.
   const std::shared_ptr<SeparationSearchScratch> scratch_;
-  // Geometry of the current q (section 6.3), valid for the blocks in geometry_ready_ (kept from
-  // the last call, of either search sharing the buffers, if it had the same q).
-  std::span<const int64_t> q_;
+  // Geometry of geometry_q_, the current call's q (section 6.3), valid for the blocks in
+  // geometry_ready_ (kept from the last call, of either search sharing the buffers, if it had the
+  // same q).
   IntVec3* const positions_;  // per slot
   IntBox* const side_boxes_;  // per owned halfpatch side, in the owner's frame
   StampedSet& geometry_ready_;
@@ -227,7 +227,8 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
 
 void SeparationSearch::Impl::ComputeGeometry(BlockId b) {
   geometry_ready_.Insert(b);
-  slots_.ComputeBlockPositions(b, q_, {positions_, static_cast<size_t>(slots_.num_slots())});
+  slots_.ComputeBlockPositions(b, geometry_q_,
+                               {positions_, static_cast<size_t>(slots_.num_slots())});
   for (const HalfpatchId hp : mesh_.block_halfpatches(b)) {
     if (mesh_.halfpatch_block(hp) != b) continue;  // another block's side
     const std::span<const SlotId> cycle = tables_->SideSlots(hp);
@@ -272,7 +273,6 @@ int64_t SeparationSearch::Impl::FindViolations(
                  q.size(), mesh_.num_arcs());
     std::abort();
   }
-  q_ = q;
   if (!std::equal(q.begin(), q.end(), geometry_q_.begin(), geometry_q_.end())) {
     geometry_q_.assign(q.begin(), q.end());
     geometry_ready_.Clear();
