@@ -4,7 +4,7 @@
 set -euo pipefail
 
 PACKAGES=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler libssl-dev
   coinor-libclp-dev coinor-libcbc-dev libabsl-dev libspdlog-dev libgtest-dev libgmock-dev
   python3 python3-matplotlib  # the benchmark report (tests/bench/report) draws its plots with it
