@@ -186,29 +186,44 @@ void Job::FinishWithResult(v1::QuantizationResult result, absl::Time now) {
   {
     absl::MutexLock lock(&mutex_);
     if (end_time_.has_value()) return;
-    appended = EndLocked(interrupted && cancel_requested_ ? v1::CANCELLED : v1::SUCCEEDED, now,
-                         std::move(event));
+    if (abandoned_.has_value()) {
+      appended = EndWithErrorLocked(*abandoned_, now);
+    } else {
+      appended = EndLocked(interrupted && cancel_requested_ ? v1::CANCELLED : v1::SUCCEEDED, now,
+                           std::move(event));
+    }
   }
   Deliver(std::move(appended));
 }
 
 void Job::FinishWithError(const absl::Status& status, absl::Time now) {
-  v1::QuantizeEvent event = NewEvent(now);
-  event.mutable_error()->set_code(static_cast<int32_t>(status.code()));
-  event.mutable_error()->set_message(std::string(status.message()));
   Appended appended;
   {
     absl::MutexLock lock(&mutex_);
     if (end_time_.has_value()) return;
-    appended =
-        EndLocked(absl::IsCancelled(status) ? v1::CANCELLED : v1::FAILED, now, std::move(event));
+    appended = EndWithErrorLocked(abandoned_.value_or(status), now);
   }
   Deliver(std::move(appended));
+}
+
+Job::Appended Job::EndWithErrorLocked(const absl::Status& status, absl::Time now) {
+  v1::QuantizeEvent event = NewEvent(now);
+  event.mutable_error()->set_code(static_cast<int32_t>(status.code()));
+  event.mutable_error()->set_message(std::string(status.message()));
+  return EndLocked(absl::IsCancelled(status) ? v1::CANCELLED : v1::FAILED, now, std::move(event));
 }
 
 void Job::RequestCancel() {
   absl::MutexLock lock(&mutex_);
   if (end_time_.has_value()) return;
+  cancel_requested_ = true;
+  interrupter_.Interrupt();
+}
+
+void Job::Abandon(const absl::Status& status) {
+  absl::MutexLock lock(&mutex_);
+  if (end_time_.has_value()) return;
+  if (!abandoned_.has_value()) abandoned_ = status;
   cancel_requested_ = true;
   interrupter_.Interrupt();
 }

@@ -100,6 +100,11 @@ class Job {
   // LP solves. Does not end a queued job by itself: whoever owns it (the canceller that took it
   // out of the queue, or the worker that popped it) ends it. Idempotent; no effect once done.
   void RequestCancel();
+  // As RequestCancel, and the job then ends with the error `status` whatever its run returns:
+  // this replica lost the job's lease in a shared store (server/postgres_job_recorder.h), so
+  // what the run would report did not happen as far as the store is concerned. The first
+  // status wins; no effect once done.
+  void Abandon(const absl::Status& status);
 
   v1::JobState state() const;
   bool done() const;
@@ -140,6 +145,9 @@ class Job {
   // Ends the job: state, end time, the terminal event, and the mesh let go.
   Appended EndLocked(v1::JobState state, absl::Time now, v1::QuantizeEvent terminal)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Ends the job with the error `status`: CANCELLED if it is CANCELLED, FAILED otherwise.
+  Appended EndWithErrorLocked(const absl::Status& status, absl::Time now)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
 
   const std::string id_;
   const std::string name_;
@@ -155,6 +163,7 @@ class Job {
   mutable absl::Mutex mutex_;
   v1::JobState state_ ABSL_GUARDED_BY(mutex_) = v1::QUEUED;
   bool cancel_requested_ ABSL_GUARDED_BY(mutex_) = false;
+  std::optional<absl::Status> abandoned_ ABSL_GUARDED_BY(mutex_);  // see Abandon
   std::optional<absl::Time> start_time_ ABSL_GUARDED_BY(mutex_);
   std::optional<absl::Time> end_time_ ABSL_GUARDED_BY(mutex_);
   std::optional<v1::Progress> latest_progress_ ABSL_GUARDED_BY(mutex_);

@@ -55,11 +55,11 @@ std::shared_ptr<Job> JobClaimer::ClaimOne(const Readmit& readmit) {
   if (!spec.ok()) {
     queue_.MarkDone();
     if (absl::IsResourceExhausted(spec.status()) || absl::IsUnavailable(spec.status())) {
-      claims_.Release(claim->id);
+      claims_.Release(*claim);
       // Another replica may have room; this one waits rather than claiming it straight back.
       absl::SleepFor(claims_.poll_interval());
     } else {
-      claims_.Fail(claim->id, absl::Status(spec.status().code(),
+      claims_.Fail(*claim, absl::Status(spec.status().code(),
                                            absl::StrCat("the job's request can no longer run: ",
                                                         spec.status().message())));
     }
@@ -68,7 +68,7 @@ std::shared_ptr<Job> JobClaimer::ClaimOne(const Readmit& readmit) {
   std::shared_ptr<Job> runner = Job::Resume(claim->id, *std::move(spec), /*bound_to_call=*/false,
                                             claim->create_time, claim->next_sequence, budget_);
   if (claim->cancel_requested) runner->RequestCancel();
-  claims_.Adopt(runner);
+  claims_.Adopt(runner, *claim);
   spdlog::info("event=job_claimed job={} attempt={} first_event={}", runner->name(), claim->attempt,
                claim->next_sequence);
   return runner;

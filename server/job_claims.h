@@ -1,7 +1,9 @@
 // Jobs queued in a shared store (server/postgres_job_store.h), claimed by the workers of any
 // replica (server/job_claimer.h) under a lease that the claiming replica renews. A job whose
 // lease expires (its replica died or stalled) is claimable again and is run from the start by
-// whoever claims it: quantization is deterministic, so the result is the same.
+// whoever claims it: quantization is deterministic, so the result is the same. Each claim has
+// an attempt number, and everything done under a claim (recording, giving back, failing) is
+// fenced by it: a replica whose claim was superseded changes nothing.
 #ifndef ISPQ_SERVER_JOB_CLAIMS_H_
 #define ISPQ_SERVER_JOB_CLAIMS_H_
 
@@ -35,13 +37,13 @@ class JobClaims {
   // The oldest job that is queued, or running under an expired lease, now leased to this
   // replica; nullopt if there is none or the store cannot be reached.
   virtual std::optional<Claim> ClaimNext() = 0;
-  // `runner` runs the claim of the same id here: its events are recorded from now on, its lease
-  // renewed until it ends.
-  virtual void Adopt(std::shared_ptr<Job> runner) = 0;
+  // `runner` runs `claim` here: its events are recorded under the claim from now on, its lease
+  // renewed until its end is recorded.
+  virtual void Adopt(std::shared_ptr<Job> runner, const Claim& claim) = 0;
   // Gives a claim back for another replica (this one cannot take it now).
-  virtual void Release(const std::string& id) = 0;
+  virtual void Release(const Claim& claim) = 0;
   // Ends a claimed job that can never run (its request no longer admits) with `status`.
-  virtual void Fail(const std::string& id, const absl::Status& status) = 0;
+  virtual void Fail(const Claim& claim, const absl::Status& status) = 0;
   // Jobs waiting in the store for any replica; -1 if unknown.
   virtual int QueuedCount() = 0;
   // `wake` is called, on some thread of the store, whenever a job may have become claimable.

@@ -17,9 +17,10 @@ class JobEventSink {
   virtual ~JobEventSink() = default;
   // Called after `job` changed, with none of its locks held: `event` is the event it just
   // emitted, or null when only its state changed (it started). Runs on the thread that changed
-  // the job, often the worker inside the solver's progress callback: it may block for a round
-  // trip to the store, never longer. A sink that finds the job is no longer this replica's to
-  // record (its lease passed to another replica) asks the job to stop (Job::RequestCancel).
+  // the job, often the worker inside the solver's progress callback: it must not wait for the
+  // store (the database may be slow or down), only note what is to be written. A sink that
+  // finds the job is no longer this replica's to record (its lease passed to another replica)
+  // abandons the run (Job::Abandon).
   virtual void Record(Job& job, const v1::QuantizeEvent* event) = 0;
 };
 

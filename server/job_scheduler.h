@@ -63,6 +63,10 @@ class JobScheduler {
   bool EvictOldestFinished() { return !store_->shared() && store_->EvictOldestFinished(); }
   // Whether jobs are kept in a store shared with other replicas.
   bool shared() const { return store_->shared(); }
+  // Whether the job store answers now (a cached flag, server/job_store.h).
+  bool store_reachable() const { return store_->reachable(); }
+  // Waits until the store holds what the jobs reported, at most until `deadline`.
+  bool FlushStore(absl::Time deadline) { return store_->Flush(deadline); }
   // With a shared store: starts claiming jobs from it, re-admitted with `readmit`.
   void EnableClaiming(JobClaimer::Readmit readmit);
   // Ends a queued job at once (CANCELLED) or interrupts a running one; no effect once done.

@@ -80,6 +80,11 @@ class JobStore {
 
   // Whether other replicas share this store: jobs are then claimed from it, not only queued here.
   virtual bool shared() const = 0;
+  // Whether the store answers now (cheap: a flag, never a round trip). A store in this process
+  // always does.
+  virtual bool reachable() const { return true; }
+  // Waits until what jobs reported is durably stored, at most until `deadline`; whether it is.
+  virtual bool Flush(absl::Time /*deadline*/) { return true; }
 };
 
 }  // namespace ispq::server

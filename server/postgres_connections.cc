@@ -3,32 +3,74 @@
 #include <exception>
 #include <utility>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
+#include "server/log_throttle.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
+namespace {
+
+// libpq parameters added to a URI that does not set them. connect_timeout is whole seconds (2
+// at least); keepalives notice a vanished peer within about idle + interval * count seconds.
+constexpr const char* kDefaultParameters[][2] = {
+    {"connect_timeout", "5"},   {"keepalives", "1"},        {"keepalives_idle", "10"},
+    {"keepalives_interval", "5"}, {"keepalives_count", "3"},
+};
+
+LogThrottle& ConnectFailures() {
+  static LogThrottle* const throttle = new LogThrottle(absl::Seconds(10));
+  return *throttle;
+}
+
+}  // namespace
+
+std::string WithConnectionDefaults(const std::string& uri) {
+  std::string result = uri;
+  const size_t query = uri.find('?');
+  const std::string parameters = query == std::string::npos ? "" : uri.substr(query + 1);
+  bool first = query == std::string::npos;
+  for (const auto& [name, value] : kDefaultParameters) {
+    const std::string key = absl::StrCat(name, "=");
+    if (absl::StartsWith(parameters, key) || absl::StrContains(parameters, absl::StrCat("&", key))) {
+      continue;
+    }
+    absl::StrAppend(&result, first ? "?" : "&", key, value);
+    first = false;
+  }
+  return result;
+}
 
 absl::StatusOr<std::shared_ptr<PostgresConnections>> PostgresConnections::Connect(
-    const std::string& uri, int size) {
-  std::shared_ptr<PostgresConnections> pool(new PostgresConnections(uri));
+    PostgresConnectionOptions options) {
+  std::shared_ptr<PostgresConnections> pool(
+      new PostgresConnections(WithConnectionDefaults(options.uri), options.operation_timeout));
   try {
-    pool->idle_.push_back(std::make_unique<pqxx::connection>(uri));
+    pool->idle_.push_back(std::make_unique<pqxx::connection>(pool->uri_));
   } catch (const std::exception& error) {
     return absl::UnavailableError(
         absl::StrCat("cannot connect to the job store's PostgreSQL database: ", error.what()));
   }
-  pool->free_slots_ = size > 1 ? size - 1 : 0;
+  pool->free_slots_ = options.size > 1 ? options.size - 1 : 0;
   return pool;
 }
 
-std::unique_ptr<pqxx::connection> PostgresConnections::Borrow() {
+std::unique_ptr<pqxx::connection> PostgresConnections::Borrow(absl::Time deadline,
+                                                              std::string& failure) {
   {
     absl::MutexLock lock(&mutex_);
-    mutex_.Await(absl::Condition(
-        +[](PostgresConnections* pool) ABSL_EXCLUSIVE_LOCKS_REQUIRED(pool->mutex_) {
-          return !pool->idle_.empty() || pool->free_slots_ > 0;
-        },
-        this));
+    const bool available = mutex_.AwaitWithDeadline(
+        absl::Condition(
+            +[](PostgresConnections* pool) ABSL_EXCLUSIVE_LOCKS_REQUIRED(pool->mutex_) {
+              return !pool->idle_.empty() || pool->free_slots_ > 0;
+            },
+            this),
+        deadline);
+    if (!available) {
+      failure = "no connection to the database became free in time";
+      return nullptr;
+    }
     if (!idle_.empty()) {
       std::unique_ptr<pqxx::connection> connection = std::move(idle_.back());
       idle_.pop_back();
@@ -36,12 +78,17 @@ std::unique_ptr<pqxx::connection> PostgresConnections::Borrow() {
     }
     --free_slots_;
   }
-  // Connecting takes a round trip or more: not under the lock. A failure leaves a null
-  // connection that Run reports and that Return turns back into a free slot.
+  // Connecting takes a round trip or more (at most connect_timeout): not under the lock. A
+  // failure gives the slot back.
   try {
     return std::make_unique<pqxx::connection>(uri_);
   } catch (const std::exception& error) {
-    spdlog::warn("event=job_store_connect_failed error=\"{}\"", error.what());
+    failure = error.what();
+    if (const auto held_back = ConnectFailures().Admit()) {
+      spdlog::warn("event=job_store_connect_failed error=\"{}\" suppressed={}", error.what(),
+                   *held_back);
+    }
+    Return(nullptr);
     return nullptr;
   }
 }
@@ -56,27 +103,47 @@ void PostgresConnections::Return(std::unique_ptr<pqxx::connection> connection) {
 }
 
 absl::Status PostgresConnections::Run(const std::function<void(pqxx::connection&)>& operation) {
+  return Run(operation, operation_timeout_);
+}
+
+absl::Status PostgresConnections::Run(const std::function<void(pqxx::connection&)>& operation,
+                                      absl::Duration timeout) {
+  const absl::Time deadline = absl::Now() + timeout;
   std::string failure = "no connection to the database";
-  for (int attempt = 0; attempt < 2; ++attempt) {
-    std::unique_ptr<pqxx::connection> connection = Borrow();
-    if (connection == nullptr) {
-      Return(nullptr);
-      continue;
-    }
-    try {
-      operation(*connection);
-      Return(std::move(connection));
-      return absl::OkStatus();
-    } catch (const pqxx::broken_connection& error) {
-      failure = error.what();
-      connection.reset();
-      Return(nullptr);  // and try once more on a fresh connection
-    } catch (const std::exception& error) {
-      failure = error.what();
-      // The transaction was rolled back by pqxx::work's destructor; the connection is fine
-      // unless it broke meanwhile.
-      Return(std::move(connection));
-      break;
+  for (int attempt = 0; attempt < 2 && absl::Now() < deadline; ++attempt) {
+    std::unique_ptr<pqxx::connection> connection = Borrow(deadline, failure);
+    if (connection == nullptr) continue;
+    enum { kDone, kFailed, kBroken, kTimedOut } outcome = kDone;
+    {
+      SocketDeadlines::Guard guard(deadlines_, connection->sock(), deadline);
+      try {
+        operation(*connection);
+      } catch (const pqxx::broken_connection& error) {
+        failure = error.what();
+        outcome = kBroken;
+      } catch (const std::exception& error) {
+        // The transaction was rolled back by pqxx::work's destructor; the connection is fine
+        // unless the deadline cut it (checked below).
+        failure = error.what();
+        outcome = kFailed;
+      }
+      // Cut by its deadline, possibly just after it succeeded: the socket is shut down.
+      if (guard.expired()) outcome = kTimedOut;
+    }  // the guard goes before the connection is returned or dropped
+    switch (outcome) {
+      case kDone:
+        Return(std::move(connection));
+        return absl::OkStatus();
+      case kFailed:
+        Return(std::move(connection));
+        return absl::UnavailableError(absl::StrCat("the job store's database failed: ", failure));
+      case kTimedOut:
+        Return(nullptr);
+        return absl::UnavailableError(absl::StrCat(
+            "the job store's database did not answer within ", absl::FormatDuration(timeout)));
+      case kBroken:
+        Return(nullptr);  // and try once more on a fresh connection
+        break;
     }
   }
   return absl::UnavailableError(absl::StrCat("the job store's database failed: ", failure));

@@ -60,7 +60,9 @@ absl::StatusOr<std::unique_ptr<PostgresJobStore>> PostgresJobStore::Open(
   }
   if (options.replica.empty()) options.replica = DefaultReplicaName();
   absl::StatusOr<std::shared_ptr<PostgresConnections>> connections =
-      PostgresConnections::Connect(options.uri, options.connections);
+      PostgresConnections::Connect({.uri = options.uri,
+                                    .size = options.connections,
+                                    .operation_timeout = options.operation_timeout});
   if (!connections.ok()) return connections.status();
   if (absl::Status migrated = MigratePostgresSchema(**connections); !migrated.ok()) {
     return migrated;
@@ -68,8 +70,13 @@ absl::StatusOr<std::unique_ptr<PostgresJobStore>> PostgresJobStore::Open(
   std::unique_ptr<PostgresJobStore> store(
       new PostgresJobStore(std::move(options), *std::move(connections)));
   PostgresJobStore* const self = store.get();
+  store->reachability_ = std::make_unique<PostgresReachability>(
+      *self->connections_, self->options_.probe_period, self->options_.probe_timeout, [self] {
+        absl::MutexLock lock(&self->mutex_);
+        self->renew_now_ = true;
+      });
   store->listener_ = std::make_unique<PostgresListener>(
-      self->options_.uri,
+      self->connections_->uri(),
       std::vector<std::string>{kJobChangedChannel, kJobQueuedChannel, kJobCancelChannel},
       [self](const std::string& channel, const std::string& payload) {
         self->OnNotification(channel, payload);
@@ -89,8 +96,13 @@ PostgresJobStore::PostgresJobStore(PostgresJobStoreOptions options,
 
 PostgresJobStore::~PostgresJobStore() {
   listener_.reset();
-  stopping_.Notify();
+  {
+    absl::MutexLock lock(&mutex_);
+    stopping_ = true;
+  }
   if (lease_thread_.joinable()) lease_thread_.join();
+  reachability_.reset();
+  recorder_->Stop();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -143,11 +155,20 @@ absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::Add(std::shared_ptr<Job> 
     }
     return earlier;
   }
-  job->SetEventSink(recorder_);
+  if (job->bound_to_call()) {
+    // Leased to this replica at creation (attempt 0), run here: recorded from now on. A job
+    // queued for any replica is recorded by whoever claims it.
+    recorder_->Track(job, /*attempt=*/0);
+    job->SetEventSink(recorder_);
+  }
+  AddLocal(job);
+  return job;
+}
+
+void PostgresJobStore::AddLocal(const std::shared_ptr<Job>& job) {
   absl::MutexLock lock(&mutex_);
   EraseExpired(local_);
   local_[job->id()] = job;
-  return job;
 }
 
 absl::StatusOr<std::shared_ptr<Job>> PostgresJobStore::LoadMirror(const std::string& id,
@@ -258,8 +279,10 @@ void PostgresJobStore::Cancel(Job& job, absl::Time now) {
     work.commit();
   });
   if (!status.ok()) {
-    spdlog::warn("event=job_cancel_failed job={} error=\"{}\"", job.name(),
-                 std::string(status.message()));
+    if (const auto held_back = query_failures_.Admit()) {
+      spdlog::warn("event=job_cancel_failed job={} error=\"{}\" suppressed={}", job.name(),
+                   std::string(status.message()), *held_back);
+    }
   }
   Refresh(job.id());  // so that CancelJob answers with the state it caused
 }
@@ -315,8 +338,12 @@ v1::JobCounts PostgresJobStore::CountByState() const {
       }
     }
   });
-  if (!status.ok())
-    spdlog::warn("event=job_count_failed error=\"{}\"", std::string(status.message()));
+  if (!status.ok()) {
+    if (const auto held_back = query_failures_.Admit()) {
+      spdlog::warn("event=job_count_failed error=\"{}\" suppressed={}",
+                   std::string(status.message()), *held_back);
+    }
+  }
   return counts;
 }
 
@@ -358,19 +385,19 @@ std::optional<JobClaims::Claim> PostgresJobStore::ClaimNext() {
     claim = std::move(claimed);
   });
   if (!status.ok()) {
-    spdlog::warn("event=job_claim_failed error=\"{}\"", std::string(status.message()));
+    if (const auto held_back = claim_failures_.Admit()) {
+      spdlog::warn("event=job_claim_failed error=\"{}\" suppressed={}",
+                   std::string(status.message()), *held_back);
+    }
     return std::nullopt;
   }
   return claim;
 }
 
-void PostgresJobStore::Adopt(std::shared_ptr<Job> runner) {
+void PostgresJobStore::Adopt(std::shared_ptr<Job> runner, const Claim& claim) {
+  recorder_->Track(runner, claim.attempt);
   runner->SetEventSink(recorder_);
-  {
-    absl::MutexLock lock(&mutex_);
-    EraseExpired(local_);
-    local_[runner->id()] = runner;
-  }
+  AddLocal(runner);
   // A cancellation between the claim and the registration above notified nobody here: look.
   bool cancel_requested = false;
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
@@ -382,27 +409,35 @@ void PostgresJobStore::Adopt(std::shared_ptr<Job> runner) {
   if (status.ok() && cancel_requested) runner->RequestCancel();
 }
 
-void PostgresJobStore::Release(const std::string& id) {
+void PostgresJobStore::Release(const Claim& claim) {
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
     pqxx::work work(connection);
-    work.exec_params(
+    const pqxx::result rows = work.exec_params(
         "UPDATE ispq_jobs SET state = 1, lease_owner = NULL, lease_expires = NULL "
-        "WHERE id = $1 AND lease_owner = $2 AND state = 2",
-        id, options_.replica);
+        "WHERE id = $1 AND lease_owner = $2 AND attempts = $3 AND state = 2 RETURNING id",
+        claim.id, options_.replica, claim.attempt);
+    if (rows.empty()) return;  // not ours any more
     NotifyJobQueued(work);
-    NotifyJobChanged(work, id);
+    NotifyJobChanged(work, claim.id);
     work.commit();
   });
-  if (!status.ok()) spdlog::warn("event=job_release_failed job={}", id);
+  // Not given back: the lease expires and the job is claimable again then.
+  if (!status.ok()) spdlog::warn("event=job_release_failed job=jobs/{}", claim.id);
 }
 
-void PostgresJobStore::Fail(const std::string& id, const absl::Status& failure) {
+void PostgresJobStore::Fail(const Claim& claim, const absl::Status& failure) {
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
     pqxx::work work(connection);
-    EndStoredJob(work, id, failure, absl::Now());
+    const pqxx::result ours = work.exec_params(
+        "SELECT id FROM ispq_jobs WHERE id = $1 AND lease_owner = $2 AND attempts = $3 "
+        "FOR UPDATE",
+        claim.id, options_.replica, claim.attempt);
+    if (ours.empty()) return;  // another claim decides now
+    EndStoredJob(work, claim.id, failure, absl::Now());
     work.commit();
   });
-  if (!status.ok()) spdlog::warn("event=job_fail_failed job={}", id);
+  // Not ended: the lease expires, and whoever claims the job next finds it unrunnable too.
+  if (!status.ok()) spdlog::warn("event=job_fail_failed job=jobs/{}", claim.id);
 }
 
 int PostgresJobStore::QueuedCount() {
@@ -480,45 +515,43 @@ void PostgresJobStore::OnNotification(const std::string& channel, const std::str
 }
 
 void PostgresJobStore::RenewLeases() {
-  // The runs to check, taken before the renewal: a job claimed after the renewal's snapshot is
-  // leased to us but not renewed this time, and must not be taken for a lost one.
-  std::vector<std::shared_ptr<Job>> running;
-  for (std::shared_ptr<Job>& job : ActiveJobs()) {
-    if (job->state() == v1::RUNNING) running.push_back(std::move(job));
-  }
-  std::vector<std::string> renewed;
+  const std::vector<JobLease> leases = recorder_->Leases();
+  if (leases.empty()) return;
+  std::vector<const JobLease*> lost;
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
-    renewed.clear();
+    lost.clear();
     pqxx::work work(connection);
-    for (const pqxx::row& row : work.exec_params(
-             "UPDATE ispq_jobs SET lease_expires = now() + $2::bigint * interval '1 millisecond' "
-             "WHERE lease_owner = $1 AND state IN (1, 2) RETURNING id",
-             options_.replica, Milliseconds(options_.lease))) {
-      renewed.push_back(row[0].as<std::string>());
+    for (const JobLease& lease : leases) {
+      const pqxx::result renewed = work.exec_params(
+          "UPDATE ispq_jobs SET lease_expires = now() + $4::bigint * interval '1 millisecond' "
+          "WHERE id = $1 AND lease_owner = $2 AND attempts = $3 AND state IN (1, 2) RETURNING id",
+          lease.id, options_.replica, lease.attempt, Milliseconds(options_.lease));
+      if (renewed.empty()) lost.push_back(&lease);
     }
     work.commit();
   });
   if (!status.ok()) {
-    spdlog::warn("event=lease_renewal_failed error=\"{}\"", std::string(status.message()));
+    if (const auto held_back = lease_failures_.Admit()) {
+      spdlog::warn("event=lease_renewal_failed error=\"{}\" suppressed={}",
+                   std::string(status.message()), *held_back);
+    }
     return;
   }
-  std::sort(renewed.begin(), renewed.end());
-  for (const std::shared_ptr<Job>& job : running) {
-    // A run whose lease is not ours any more: another replica runs the job; stop duplicating.
-    // (Its records are refused anyway: they need the lease.)
-    if (!job->done() && !std::binary_search(renewed.begin(), renewed.end(), job->id())) {
-      spdlog::warn("event=job_lease_lost job={}", job->name());
-      job->RequestCancel();
-    }
-  }
+  // Not renewed: another replica holds the job now, or its end was written meanwhile (then the
+  // recorder no longer lists it and this changes nothing).
+  for (const JobLease* lease : lost) recorder_->LeaseLost(*lease);
 }
 
 void PostgresJobStore::EndOrphanedCallJobs() {
+  // A whole lease of grace beyond the expiry: a replica cut off from the database keeps running
+  // its call's job, and renews the lease as soon as it can reach the database again.
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
     pqxx::work work(connection);
-    const pqxx::result orphans = work.exec(
+    const pqxx::result orphans = work.exec_params(
         "SELECT id FROM ispq_jobs WHERE bound_to_call AND state IN (1, 2) AND "
-        "lease_expires < now() LIMIT 100 FOR UPDATE SKIP LOCKED");
+        "lease_expires < now() - $1::bigint * interval '1 millisecond' "
+        "LIMIT 100 FOR UPDATE SKIP LOCKED",
+        Milliseconds(options_.lease));
     for (const pqxx::row& row : orphans) {
       EndStoredJob(work, row[0].as<std::string>(),
                    absl::UnavailableError("the replica serving this job's Quantize call stopped; "
@@ -527,25 +560,46 @@ void PostgresJobStore::EndOrphanedCallJobs() {
     }
     work.commit();
   });
-  if (!status.ok())
-    spdlog::warn("event=orphan_sweep_failed error=\"{}\"", std::string(status.message()));
+  if (!status.ok()) {
+    if (const auto held_back = sweep_failures_.Admit()) {
+      spdlog::warn("event=orphan_sweep_failed error=\"{}\" suppressed={}",
+                   std::string(status.message()), *held_back);
+    }
+  }
+}
+
+void PostgresJobStore::PruneRetention() {
+  const absl::Status pruned = connections_->Run([&](pqxx::connection& connection) {
+    pqxx::work work(connection);
+    PruneFinishedJobs(work, options_.retention, absl::Now());
+    work.commit();
+  });
+  if (!pruned.ok()) {
+    if (const auto held_back = sweep_failures_.Admit()) {
+      spdlog::warn("event=prune_failed error=\"{}\" suppressed={}",
+                   std::string(pruned.message()), *held_back);
+    }
+  }
 }
 
 void PostgresJobStore::MaintainLeases() {
   const absl::Duration period = options_.lease / 3;
   absl::Time next_prune = absl::Now();
-  while (!stopping_.WaitForNotificationWithTimeout(period)) {
+  while (true) {
+    {
+      absl::MutexLock lock(&mutex_);
+      auto woken = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
+        return renew_now_ || stopping_;
+      };
+      mutex_.AwaitWithTimeout(absl::Condition(&woken), period);
+      if (stopping_) return;
+      renew_now_ = false;
+    }
     RenewLeases();
     EndOrphanedCallJobs();
     if (absl::Now() >= next_prune) {
       next_prune = absl::Now() + kPruneEvery;
-      const absl::Status pruned = connections_->Run([&](pqxx::connection& connection) {
-        pqxx::work work(connection);
-        PruneFinishedJobs(work, options_.retention, absl::Now());
-        work.commit();
-      });
-      if (!pruned.ok())
-        spdlog::warn("event=prune_failed error=\"{}\"", std::string(pruned.message()));
+      PruneRetention();
     }
   }
 }

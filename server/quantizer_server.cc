@@ -63,6 +63,7 @@ absl::StatusOr<Stores> OpenStores(const ServerConfig& config) {
   options.retention = {.max_finished = config.retain_finished_jobs,
                        .max_age = config.retain_finished_time};
   options.lease = config.job_lease;
+  options.operation_timeout = config.job_store_timeout;
   // Workers record events, gRPC threads look jobs up, plus the lease thread and notifications.
   options.connections = config.workers + 6;
   absl::StatusOr<std::unique_ptr<PostgresJobStore>> store = PostgresJobStore::Open(options);
@@ -95,7 +96,8 @@ QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<Job
 }
 
 bool QuantizerServer::Ready() const {
-  return scheduler_.accepting() && !scheduler_.queue_full() && !service_.admissions_full() &&
+  return scheduler_.accepting() && scheduler_.store_reachable() && !scheduler_.queue_full() &&
+         !service_.admissions_full() && !service_.store_calls_full() &&
          budget_.pinned() <= budget_.limit() - budget_.limit() / kReadyMemoryFraction;
 }
 
@@ -187,6 +189,9 @@ void QuantizerServer::Shutdown() {
     scheduler_.InterruptRunning();
     idle = scheduler_.WaitUntilIdle(deadline - flush_time / 2);
   }
+  // What the jobs reported reaches a shared store before the process goes (what does not, by
+  // the deadline, is run again by another replica once its lease expires).
+  const bool stored = scheduler_.FlushStore(deadline - flush_time / 2);
   // The jobs have ended: the HTTP event streams have their terminal events, which they write
   // before they look at the stop (within about a second).
   if (http_ != nullptr) http_->Stop();
@@ -194,8 +199,8 @@ void QuantizerServer::Shutdown() {
   // deadline.
   server_->Shutdown(absl::ToChronoTime(deadline));
   server_->Wait();
-  spdlog::info("event=shutdown_end seconds={:.3f} jobs_idle={}",
-               absl::ToDoubleSeconds(absl::Now() - begin), idle);
+  spdlog::info("event=shutdown_end seconds={:.3f} jobs_idle={} jobs_stored={}",
+               absl::ToDoubleSeconds(absl::Now() - begin), idle, stored);
 }
 
 }  // namespace ispq::server

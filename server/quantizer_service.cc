@@ -32,6 +32,11 @@ constexpr int64_t kInlineAdmissionBytes = 256 << 10;
 // A ListJobs page stops before its serialized size passes this (clients' default limit: 4 MiB).
 constexpr int64_t kMaxListPageBytes = (4 << 20) - (64 << 10);
 constexpr absl::Duration kAdmissionRetryHint = absl::Milliseconds(500);
+// With a shared store: threads for calls that wait on the database, and how many calls may wait
+// for them. A call waits at most the store's operation timeout, so a hung database fills the
+// queue within seconds; later calls are refused at once rather than queued behind it.
+constexpr int kStoreCallThreads = 4;
+constexpr int kMaxWaitingStoreCalls = 256;
 
 v1::Mesh MeshToProto(const StoredMesh& stored) {
   v1::Mesh proto;
@@ -60,17 +65,36 @@ QuantizerService::QuantizerService(ServiceParts parts, JobLimits limits, Admissi
       start_time_(absl::Now()),
       request_ids_(
           [&scheduler = parts.scheduler](const std::string& id) { return scheduler.Find(id); }),
+      store_calls_(parts.scheduler.shared()
+                       ? std::make_unique<AdmissionPool>(kStoreCallThreads, kMaxWaitingStoreCalls)
+                       : nullptr),
       admission_pool_(admission.threads, admission.max_waiting) {}
 
 // ---------------------------------------------------------------------------------------------
 // Requests that carry a mesh
 
 bool QuantizerService::Dispatch(int64_t request_bytes, AdmissionPool::Task admit) {
-  if (request_bytes <= kInlineAdmissionBytes) {
-    std::move(admit)();
+  if (request_bytes <= kInlineAdmissionBytes) return OffGrpcThread(std::move(admit));
+  return admission_pool_.TrySchedule(std::move(admit));
+}
+
+bool QuantizerService::OffGrpcThread(AdmissionPool::Task task) {
+  if (store_calls_ == nullptr) {
+    std::move(task)();
     return true;
   }
-  return admission_pool_.TrySchedule(std::move(admit));
+  return store_calls_->TrySchedule(std::move(task));
+}
+
+absl::Status QuantizerService::StoreCallsFull() const {
+  return absl::UnavailableError(absl::StrCat(
+      "too many calls are waiting for the job store's database (", kMaxWaitingStoreCalls,
+      "): it answers slowly or not at all; retry later"));
+}
+
+absl::Status QuantizerService::DispatchRefused(int64_t request_bytes) const {
+  if (request_bytes <= kInlineAdmissionBytes) return StoreCallsFull();
+  return AdmissionPoolFull();
 }
 
 absl::Status QuantizerService::AdmissionPoolFull() const {
@@ -122,7 +146,7 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
                                           raw = *std::move(raw)]() mutable {
     AdmitQuantize(*context, *stream, principal, raw);
   });
-  if (!dispatched) stream->Reject(ToGrpcStatus(AdmissionPoolFull(), *context));
+  if (!dispatched) stream->Reject(ToGrpcStatus(DispatchRefused(size), *context));
   return stream.get();
 }
 
@@ -175,7 +199,7 @@ void QuantizerService::Submit(JobSubmission submission) {
   auto shared = std::make_shared<JobSubmission>(std::move(submission));
   const int64_t size = shared->raw.size;
   if (!Dispatch(size, [this, shared] { AdmitSubmission(shared); })) {
-    shared->answer(AdmissionPoolFull());
+    shared->answer(DispatchRefused(size));
   }
 }
 
@@ -246,7 +270,7 @@ grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerConte
   const bool dispatched = Dispatch(size, [this, call, accepted = *std::move(accepted)]() mutable {
     AdmitCreateMesh(*call, accepted.principal, accepted.raw);
   });
-  if (!dispatched) call->Fail(AdmissionPoolFull());
+  if (!dispatched) call->Fail(DispatchRefused(size));
   return call;
 }
 
@@ -302,12 +326,17 @@ grpc::ServerUnaryReactor* QuantizerService::Lookup(grpc::CallbackServerContext* 
     call->Fail(parsed.status());
     return call;
   }
-  auto answer = std::forward<Handler>(handler)(parsed->message, accepted->principal);
-  if (answer.ok()) {
-    call->Answer(*answer);
-  } else {
-    call->Fail(answer.status());
-  }
+  const bool scheduled =
+      OffGrpcThread([call, handler = std::forward<Handler>(handler), parsed = *std::move(parsed),
+                     principal = std::move(accepted->principal)]() mutable {
+        auto answer = handler(parsed.message, principal);
+        if (answer.ok()) {
+          call->Answer(*answer);
+        } else {
+          call->Fail(answer.status());
+        }
+      });
+  if (!scheduled) call->Fail(StoreCallsFull());
   return call;
 }
 
@@ -334,17 +363,26 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::WatchJob(
     grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
   std::shared_ptr<JobEventStream> stream =
       JobEventStream::Create(/*cancel_job_with_call=*/nullptr, &memory_.budget());
-  absl::StatusOr<WatchTarget> watched = WatchedJob(*context, request);
-  if (!watched.ok()) {
-    stream->Reject(ToGrpcStatus(watched.status(), *context));
-  } else {
-    stream->Attach(std::move(watched->job), watched->from_event);
+  absl::StatusOr<WatchCall> accepted = AcceptWatch(*context, request);
+  if (!accepted.ok()) {
+    stream->Reject(ToGrpcStatus(accepted.status(), *context));
+    return stream.get();
   }
+  const bool scheduled =
+      OffGrpcThread([this, context, stream, accepted = *std::move(accepted)]() mutable {
+        absl::StatusOr<WatchTarget> watched = Watch(accepted.request, accepted.principal);
+        if (!watched.ok()) {
+          stream->Reject(ToGrpcStatus(watched.status(), *context));
+        } else {
+          stream->Attach(std::move(watched->job), watched->from_event);
+        }
+      });
+  if (!scheduled) stream->Reject(ToGrpcStatus(StoreCallsFull(), *context));
   return stream.get();
 }
 
-absl::StatusOr<WatchTarget> QuantizerService::WatchedJob(grpc::CallbackServerContext& context,
-                                                         const grpc::ByteBuffer* request) {
+absl::StatusOr<QuantizerService::WatchCall> QuantizerService::AcceptWatch(
+    grpc::CallbackServerContext& context, const grpc::ByteBuffer* request) {
   absl::StatusOr<Principal> principal = authenticator_.Authenticate(context);
   if (!principal.ok()) return principal.status();
   absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
@@ -352,7 +390,7 @@ absl::StatusOr<WatchTarget> QuantizerService::WatchedJob(grpc::CallbackServerCon
   absl::StatusOr<ParsedRequest<v1::WatchJobRequest>> parsed =
       ParseWithinBudget<v1::WatchJobRequest>(*raw, memory_);
   if (!parsed.ok()) return parsed.status();
-  return Watch(parsed->message, *principal);
+  return WatchCall{*std::move(principal), std::move(parsed->message)};
 }
 
 absl::StatusOr<WatchTarget> QuantizerService::Watch(const v1::WatchJobRequest& request,

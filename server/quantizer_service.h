@@ -1,10 +1,14 @@
 // The ispq.v1.Quantizer service on gRPC's callback API: each method authenticates its caller
 // (server/authenticator.h), takes its request within the memory budget (server/request_intake.h),
 // turns it into calls on the scheduler and the mesh store, and answers. No method blocks a gRPC
-// thread on a solve: lookups are answered on gRPC's thread, requests that carry a mesh (Quantize,
-// SubmitJob, CreateMesh) are parsed and validated on the admission pool (server/admission_pool.h)
-// unless they are small, and the two streaming methods hand the call to a JobEventStream that the
-// job wakes up.
+// thread on a solve or on a database: with stores in this process, lookups are answered on
+// gRPC's thread; with a shared store (PostgreSQL), whose answers take a round trip or, when the
+// database hangs, up to its operation timeout, lookups and small admissions run on a small pool
+// of store-call threads (an AdmissionPool, bounded; full: UNAVAILABLE at once), so that a hung
+// database can never take the threads that health checks need. Requests that carry a large mesh
+// (Quantize, SubmitJob, CreateMesh) are parsed and validated on the admission pool
+// (server/admission_pool.h), and the two streaming methods hand the call to a JobEventStream
+// that the job wakes up.
 //
 // Jobs and stored meshes are visible only to the principal that created them and to admins;
 // others get NOT_FOUND, as for names that never existed. SubmitJob honours request_id
@@ -132,6 +136,8 @@ class QuantizerService final : public RawQuantizerService {
   // Requests received and not yet admitted or refused, and whether more would be refused.
   int admissions_in_progress() const { return admission_pool_.in_progress(); }
   bool admissions_full() const { return admission_pool_.full(); }
+  // Whether calls that need the shared store would be refused (never without one).
+  bool store_calls_full() const { return store_calls_ != nullptr && store_calls_->full(); }
 
  private:
   // ---- Requests that carry a mesh, run by Dispatch ----
@@ -143,9 +149,16 @@ class QuantizerService final : public RawQuantizerService {
   void AdmitCreateMesh(UnaryCall& call, const Principal& principal, RawRequest& raw);
   // The mesh of a CreateMesh request, validated, with memory reserved in the store's account.
   absl::StatusOr<AdmittedMesh> StoreableMesh(const v1::TMesh& proto, int64_t request_bytes);
-  // Runs `admit` at once for a small request, else on the admission pool; false if it is full.
+  // Runs `admit` at once for a small request (on a store-call thread with a shared store), else
+  // on the admission pool; false if the pool it needs is full.
   bool Dispatch(int64_t request_bytes, AdmissionPool::Task admit);
+  // Why Dispatch refused a request of `request_bytes`.
+  absl::Status DispatchRefused(int64_t request_bytes) const;
   absl::Status AdmissionPoolFull() const;
+  // Runs `task` at once, or on a store-call thread with a shared store; false if they are all
+  // busy and enough wait.
+  bool OffGrpcThread(AdmissionPool::Task task);
+  absl::Status StoreCallsFull() const;
 
   // Validates the request into a job and queues it. `fingerprint`: the request's without its
   // request_id, when it has one (a shared store compares it across replicas).
@@ -164,16 +177,20 @@ class QuantizerService final : public RawQuantizerService {
   // Answers a SubmitJob with its job or error.
   static void AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job);
 
-  // A lookup on gRPC's thread: authenticate, take and parse `Request`, answer with
-  // `handler(request, principal)` (-> StatusOr<Response>).
+  // A lookup: authenticate, take and parse `Request` on gRPC's thread, answer with
+  // `handler(request, principal)` (-> StatusOr<Response>) there or on a store-call thread.
   template <typename Request, typename Handler>
   grpc::ServerUnaryReactor* Lookup(grpc::CallbackServerContext* context,
                                    const grpc::ByteBuffer* request, grpc::ByteBuffer* response,
                                    Handler&& handler);
 
-  // The job a WatchJob request names, and the event to start from.
-  absl::StatusOr<WatchTarget> WatchedJob(grpc::CallbackServerContext& context,
-                                         const grpc::ByteBuffer* request);
+  // The caller and the WatchJob request of a call.
+  struct WatchCall {
+    Principal principal;
+    v1::WatchJobRequest request;
+  };
+  absl::StatusOr<WatchCall> AcceptWatch(grpc::CallbackServerContext& context,
+                                        const grpc::ByteBuffer* request);
   // The job `name` if `principal` may see it, else NOT_FOUND (as if it did not exist).
   absl::StatusOr<std::shared_ptr<Job>> FindJob(const std::string& name, const Principal& principal);
 
@@ -185,6 +202,8 @@ class QuantizerService final : public RawQuantizerService {
   const JobLimits limits_;
   const absl::Time start_time_;
   RequestIds request_ids_;
+  // With a shared store only; destroyed (drained and joined) before everything they use.
+  std::unique_ptr<AdmissionPool> store_calls_;
   AdmissionPool admission_pool_;  // last: destroyed (drained and joined) first
 };
 

@@ -55,6 +55,9 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
   if (config.job_lease < absl::Milliseconds(300)) {
     return absl::InvalidArgumentError("--job_lease_seconds must be at least 0.3");
   }
+  if (config.job_store_timeout < absl::Milliseconds(100)) {
+    return absl::InvalidArgumentError("--job_store_timeout_seconds must be at least 0.1");
+  }
   if (config.max_connection_age < absl::ZeroDuration()) {
     return absl::InvalidArgumentError("--max_connection_age_seconds must not be negative");
   }

@@ -44,6 +44,8 @@ struct ServerConfig {
   // (server/postgres_job_store.h), shared by the replicas that use the same database.
   std::string job_store = "memory";
   absl::Duration job_lease = absl::Seconds(30);  // with PostgreSQL: a claimed job's lease
+  // With PostgreSQL: the longest one database operation may take.
+  absl::Duration job_store_timeout = absl::Seconds(10);
   // Connections older than this are asked to reconnect (GOAWAY), so that clients re-resolve and
   // spread over new replicas; zero: never. Streams in progress get the job time limit plus a
   // minute to finish.

@@ -92,6 +92,9 @@ ABSL_FLAG(std::string, job_store, "memory",
 ABSL_FLAG(double, job_lease_seconds, 30,
           "with PostgreSQL: how long a replica's claim on a running job lasts without renewal; "
           "a job whose replica died is run again elsewhere after at most this long");
+ABSL_FLAG(double, job_store_timeout_seconds, 10,
+          "with PostgreSQL: the longest one database operation may take before it fails with "
+          "UNAVAILABLE (a database that hangs never holds a thread longer)");
 ABSL_FLAG(double, max_connection_age_seconds, 300,
           "ask clients to reconnect after this long (0: never), so that they spread over new "
           "replicas");
@@ -184,6 +187,7 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
     config.job_store = from_environment;
   }
   config.job_lease = absl::Seconds(absl::GetFlag(FLAGS_job_lease_seconds));
+  config.job_store_timeout = absl::Seconds(absl::GetFlag(FLAGS_job_store_timeout_seconds));
   config.max_connection_age = absl::Seconds(absl::GetFlag(FLAGS_max_connection_age_seconds));
   config.http_listen_address = absl::GetFlag(FLAGS_http_listen);
   config.http_max_event_streams = absl::GetFlag(FLAGS_http_max_event_streams);

@@ -15,8 +15,18 @@ namespace {
 
 const absl::Time kT0 = absl::FromUnixSeconds(1'000'000);
 
-void Finish(Job& job, absl::Time when) {
+// A job this replica runs (call-bound): a shared store records its changes as it makes them.
+// (A job queued for any replica is recorded by the replica that claims it, see
+// postgres_job_claims_test.cc.)
+std::shared_ptr<Job> JobRunHere(const std::string& id, absl::Time now) {
+  return std::make_shared<Job>(id, NotchJobSpec(), /*bound_to_call=*/true, /*queue_position=*/0,
+                               now);
+}
+
+// Ends `job` and waits until `store` has recorded it.
+void Finish(JobStore& store, Job& job, absl::Time when) {
   job.FinishWithError(absl::InternalError("done for the test"), when);
+  ASSERT_TRUE(store.Flush(absl::Now() + absl::Seconds(30)));
 }
 
 // Every test runs against both implementations of the interface: the in-memory store and the
@@ -69,12 +79,12 @@ TEST_P(JobStoreTest, KeepsActiveJobsAndTheNewestFinishedOnes) {
   JobStore& store = *owned;
   std::vector<std::shared_ptr<Job>> jobs;
   for (int i = 0; i < 4; ++i) {
-    jobs.push_back(NewNotchJob(absl::StrCat("job", i), kT0));
+    jobs.push_back(JobRunHere(absl::StrCat("job", i), kT0));
     Add(store, jobs.back(), kT0);
   }
-  Finish(*jobs[0], kT0 + absl::Seconds(1));
-  Finish(*jobs[1], kT0 + absl::Seconds(2));
-  Finish(*jobs[2], kT0 + absl::Seconds(3));
+  Finish(store, *jobs[0], kT0 + absl::Seconds(1));
+  Finish(store, *jobs[1], kT0 + absl::Seconds(2));
+  Finish(store, *jobs[2], kT0 + absl::Seconds(3));
   const absl::Time now = kT0 + absl::Seconds(4);
   EXPECT_EQ(store.Find("job0", now), nullptr);  // the oldest finished beyond the count
   EXPECT_NE(store.Find("job1", now), nullptr);
@@ -86,9 +96,9 @@ TEST_P(JobStoreTest, KeepsActiveJobsAndTheNewestFinishedOnes) {
 TEST_P(JobStoreTest, ForgetsFinishedJobsAfterTheRetentionTime) {
   std::unique_ptr<JobStore> owned = NewStore({.max_finished = 100, .max_age = absl::Minutes(10)});
   JobStore& store = *owned;
-  std::shared_ptr<Job> job = NewNotchJob("old", kT0);
+  std::shared_ptr<Job> job = JobRunHere("old", kT0);
   Add(store, job, kT0);
-  Finish(*job, kT0);
+  Finish(store, *job, kT0);
   EXPECT_NE(store.Find("old", kT0 + absl::Minutes(10)), nullptr);
   EXPECT_EQ(store.Find("old", kT0 + absl::Minutes(10) + absl::Seconds(1)), nullptr);
 }
@@ -107,8 +117,8 @@ TEST_P(JobStoreTest, ListsNewestFirstInPagesAndByState) {
   JobStore& store = *owned;
   std::vector<std::shared_ptr<Job>> jobs;
   for (int i = 0; i < 5; ++i)
-    jobs.push_back(Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0));
-  Finish(*jobs[1], kT0);
+    jobs.push_back(Add(store, JobRunHere(absl::StrCat("j", i), kT0), kT0));
+  Finish(store, *jobs[1], kT0);
   absl::StatusOr<JobStore::Page> first = store.List(Page(2, ""), kT0);
   ASSERT_TRUE(first.ok());
   ASSERT_EQ(first->jobs.size(), 2u);
@@ -135,7 +145,7 @@ TEST_P(JobStoreTest, ListsNewestFirstInPagesAndByState) {
 TEST_P(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
   std::unique_ptr<JobStore> owned = NewStore({});
   JobStore& store = *owned;
-  for (int i = 0; i < 4; ++i) Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+  for (int i = 0; i < 4; ++i) Add(store, JobRunHere(absl::StrCat("j", i), kT0), kT0);
   absl::StatusOr<JobStore::Page> all = store.List(Page(4, ""), kT0);
   ASSERT_TRUE(all.ok());
   ASSERT_EQ(all->jobs.size(), 4u);
@@ -150,7 +160,7 @@ TEST_P(JobStoreTest, EachListedJobCarriesTheTokenThatResumesAtIt) {
 TEST_P(JobStoreTest, ListsOnlyVisibleJobsAndFillsPagesWithThem) {
   std::unique_ptr<JobStore> owned = NewStore({});
   JobStore& store = *owned;
-  for (int i = 0; i < 6; ++i) Add(store, NewNotchJob(absl::StrCat("j", i), kT0), kT0);
+  for (int i = 0; i < 6; ++i) Add(store, JobRunHere(absl::StrCat("j", i), kT0), kT0);
   JobStore::Query query = Page(2, "");
   query.visible = [](const Job& job) {
     return job.id() == "j0" || job.id() == "j2" || job.id() == "j5";
@@ -173,11 +183,11 @@ TEST_P(JobStoreTest, EvictsTheJobThatEndedFirstAndNeverAnActiveOne) {
   JobStore& store = *owned;
   std::vector<std::shared_ptr<Job>> jobs;
   for (int i = 0; i < 3; ++i) {
-    jobs.push_back(NewNotchJob(absl::StrCat("j", i), kT0));
+    jobs.push_back(JobRunHere(absl::StrCat("j", i), kT0));
     Add(store, jobs.back(), kT0);
   }
-  Finish(*jobs[2], kT0 + absl::Seconds(1));  // ended first, though added last
-  Finish(*jobs[0], kT0 + absl::Seconds(2));
+  Finish(store, *jobs[2], kT0 + absl::Seconds(1));  // ended first, though added last
+  Finish(store, *jobs[0], kT0 + absl::Seconds(2));
   ASSERT_TRUE(store.EvictOldestFinished());
   EXPECT_EQ(store.Find("j2", kT0), nullptr);
   EXPECT_NE(store.Find("j0", kT0), nullptr);

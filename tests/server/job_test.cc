@@ -101,6 +101,29 @@ TEST(JobTest, AnInterruptedRunIsCancelledOnlyIfSomeoneAskedForIt) {
   EXPECT_EQ(stopped->state(), v1::SUCCEEDED);
 }
 
+TEST(JobTest, AnAbandonedRunEndsWithTheAbandonReasonWhateverItReturns) {
+  const std::shared_ptr<Job> job = NewNotchJob("a");
+  ASSERT_TRUE(job->Start(absl::Now()));
+  job->Abandon(absl::UnavailableError("another replica runs this job now"));
+  EXPECT_TRUE(job->interrupter().IsInterrupted());
+  EXPECT_FALSE(job->done()) << "the worker still runs it and ends it";
+  job->Abandon(absl::InternalError("a later reason"));  // the first one wins
+  job->FinishWithResult(Result(v1::CONVERGED), absl::Now());
+  EXPECT_EQ(job->state(), v1::FAILED);
+  const v1::Job ended = job->ToProto(v1::FULL);
+  EXPECT_FALSE(ended.has_result());
+  EXPECT_EQ(ended.error().code(), static_cast<int32_t>(absl::StatusCode::kUnavailable));
+  EXPECT_EQ(ended.error().message(), "another replica runs this job now");
+
+  // Queued: it never starts, and the worker's "cancelled before it started" becomes the reason.
+  const std::shared_ptr<Job> queued = NewNotchJob("b");
+  queued->Abandon(absl::UnavailableError("lease lost"));
+  EXPECT_FALSE(queued->Start(absl::Now()));
+  queued->FinishWithError(absl::CancelledError("cancelled before it started"), absl::Now());
+  EXPECT_EQ(queued->state(), v1::FAILED);
+  EXPECT_EQ(queued->ToProto(v1::FULL).error().message(), "lease lost");
+}
+
 TEST(JobTest, TheFirstEndWinsAndLaterOnesChangeNothing) {
   const std::shared_ptr<Job> job = NewNotchJob("g");
   ASSERT_TRUE(job->Start(absl::Now()));

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "absl/strings/ascii.h"
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/notification.h"
 #include "gtest/gtest.h"
@@ -51,6 +52,47 @@ class PostgresJobClaimsTest : public ::testing::Test {
     spec.request_fingerprint = fingerprint;
     return std::make_shared<Job>(id, std::move(spec), false, 0, absl::Now());
   }
+
+  // Claims the next job on `replica` and starts running it there, as a worker does; null if
+  // there is none.
+  static std::shared_ptr<Job> ClaimAndRun(PostgresJobStore& replica,
+                                          JobClaims::Claim* claimed = nullptr) {
+    std::optional<JobClaims::Claim> claim = replica.ClaimNext();
+    if (!claim.has_value()) return nullptr;
+    std::shared_ptr<Job> runner = Job::Resume(claim->id, NotchJobSpec(), false, claim->create_time,
+                                              claim->next_sequence, nullptr);
+    replica.Adopt(runner, *claim);
+    if (!runner->Start(absl::Now())) return nullptr;
+    if (claimed != nullptr) *claimed = *claim;
+    return runner;
+  }
+
+  // Expires every lease at once and claims on `replica`, as if the lease holder had stalled;
+  // tried again if the holder renewed its lease in between.
+  std::shared_ptr<Job> TakeOver(PostgresJobStore& replica, JobClaims::Claim* claimed = nullptr) {
+    for (int attempt = 0; attempt < 50; ++attempt) {
+      if (!postgres_
+               ->Sql("UPDATE ispq_jobs SET lease_expires = now() - interval '1 hour' WHERE "
+                     "state = 2",
+                     Database())
+               .ok()) {
+        return nullptr;
+      }
+      if (std::shared_ptr<Job> runner = ClaimAndRun(replica, claimed)) return runner;
+    }
+    return nullptr;
+  }
+
+  // The job's row as `state|attempts|lease owner`.
+  std::string Row(const std::string& id) {
+    absl::StatusOr<std::string> row = postgres_->Sql(
+        absl::StrCat("SELECT state || '|' || attempts || '|' || coalesce(lease_owner, '') FROM "
+                     "ispq_jobs WHERE id = '",
+                     id, "'"),
+        Database());
+    return row.ok() ? std::string(absl::StripAsciiWhitespace(*row)) : row.status().ToString();
+  }
+  std::string Database() const { return uri_.substr(uri_.rfind('/') + 1); }
 
   static ispq::testing::PostgresInstance* postgres_;
   static int next_database_;
@@ -111,13 +153,13 @@ TEST_F(PostgresJobClaimsTest, AJobWhoseReplicaDiedIsClaimedAgainAfterItsLease) {
 TEST_F(PostgresJobClaimsTest, WatchersOnAnotherReplicaSeeEveryChangeLive) {
   std::unique_ptr<PostgresJobStore> a = Replica("a");
   std::unique_ptr<PostgresJobStore> b = Replica("b");
-  std::shared_ptr<Job> job = NewNotchJob("watched");
-  ASSERT_TRUE(a->Add(job, "", absl::Now()).ok());
+  ASSERT_TRUE(a->Add(NewNotchJob("watched"), "", absl::Now()).ok());
   std::shared_ptr<Job> mirror = b->Find("watched", absl::Now());
   ASSERT_NE(mirror, nullptr);
   auto watcher = std::make_shared<CountingWatcher>(*mirror);
   mirror->AddWatcher(watcher);
-  ASSERT_TRUE(job->Start(absl::Now()));
+  std::shared_ptr<Job> job = ClaimAndRun(*a);
+  ASSERT_NE(job, nullptr);
   v1::Progress progress;
   progress.set_iteration(7);
   job->PublishProgress(progress);
@@ -128,6 +170,75 @@ TEST_F(PostgresJobClaimsTest, WatchersOnAnotherReplicaSeeEveryChangeLive) {
   EXPECT_EQ(seen.event_count(), 3);
   EXPECT_EQ(seen.latest_progress().iteration(), 7);
   EXPECT_EQ(seen.error().message(), "ended for the test");
+}
+
+// The issue-24 case: replica a stalls past its lease, b claims the job and is drained (gives it
+// back), then a resumes and ends its run. a's end must not be written over the job: the job
+// stays queued for a third claim, and a's run is abandoned.
+TEST_F(PostgresJobClaimsTest, AReplicaWhoseClaimWasSupersededWritesNothing) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("contested"), "", absl::Now()).ok());
+  std::shared_ptr<Job> stale = ClaimAndRun(*a);
+  ASSERT_NE(stale, nullptr);
+  ASSERT_TRUE(a->Flush(absl::Now() + absl::Seconds(10)));
+  EXPECT_EQ(Row("contested"), "2|1|a");
+
+  // a "stalls": its lease is made to expire now, and b claims the job before a renews it.
+  JobClaims::Claim b_claim;
+  std::shared_ptr<Job> taken_over = TakeOver(*b, &b_claim);
+  ASSERT_NE(taken_over, nullptr);
+  EXPECT_EQ(b_claim.attempt, 2);
+  b->Release(b_claim);  // b is drained before it ends the run
+  EXPECT_EQ(Row("contested"), "1|2|");
+
+  // a resumes: its progress and its end reach nothing.
+  v1::Progress progress;
+  progress.set_iteration(99);
+  stale->PublishProgress(progress);
+  stale->FinishWithError(absl::CancelledError("interrupted"), absl::Now());
+  a->Flush(absl::Now() + absl::Seconds(10));
+  EXPECT_EQ(Row("contested"), "1|2|");
+  std::shared_ptr<Job> seen = b->Find("contested", absl::Now());
+  ASSERT_NE(seen, nullptr);
+  EXPECT_EQ(seen->state(), v1::QUEUED);
+  EXPECT_NE(seen->ToProto(v1::FULL).latest_progress().iteration(), 99);
+
+  // The next claim runs it to its real end.
+  JobClaims::Claim third;
+  std::shared_ptr<Job> rerun = ClaimAndRun(*b, &third);
+  ASSERT_NE(rerun, nullptr);
+  EXPECT_EQ(third.attempt, 3);
+  rerun->FinishWithError(absl::InternalError("the real end"), absl::Now());
+  ASSERT_TRUE(b->Flush(absl::Now() + absl::Seconds(10)));
+  std::shared_ptr<Job> ended = a->Find("contested", absl::Now());
+  ASSERT_NE(ended, nullptr);
+  EXPECT_EQ(ended->state(), v1::FAILED);
+  EXPECT_EQ(ended->ToProto(v1::FULL).error().message(), "the real end");
+}
+
+// The lease thread renews only what this replica still runs or has to record: a run whose lease
+// another replica holds is abandoned, and ends with that reason, not with its own outcome.
+TEST_F(PostgresJobClaimsTest, ARunWhoseLeaseWasTakenIsAbandoned) {
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  std::unique_ptr<PostgresJobStore> b = Replica("b");
+  ASSERT_TRUE(a->Add(NewNotchJob("taken"), "", absl::Now()).ok());
+  std::shared_ptr<Job> stale = ClaimAndRun(*a);
+  ASSERT_NE(stale, nullptr);
+  ASSERT_NE(TakeOver(*b), nullptr);
+  // a's lease thread notices at its next renewal (every third of the lease).
+  const absl::Time until = absl::Now() + absl::Seconds(30);
+  while (!stale->interrupter().IsInterrupted() && absl::Now() < until) {
+    absl::SleepFor(absl::Milliseconds(20));
+  }
+  ASSERT_TRUE(stale->interrupter().IsInterrupted());
+  v1::QuantizationResult interrupted;
+  interrupted.set_termination(v1::INTERRUPTED);
+  stale->FinishWithResult(interrupted, absl::Now());
+  EXPECT_EQ(stale->state(), v1::FAILED);
+  EXPECT_EQ(stale->ToProto(v1::FULL).error().code(),
+            static_cast<int32_t>(absl::StatusCode::kUnavailable));
+  EXPECT_EQ(Row("taken"), "2|2|b");
 }
 
 TEST_F(PostgresJobClaimsTest, ARequestIdNamesOneJobAcrossReplicas) {
@@ -176,12 +287,8 @@ TEST_F(PostgresJobClaimsTest, CancellingARunningJobOnAnotherReplicaInterruptsIts
   std::unique_ptr<PostgresJobStore> a = Replica("a");
   std::unique_ptr<PostgresJobStore> b = Replica("b");
   ASSERT_TRUE(a->Add(NewNotchJob("running"), "", absl::Now()).ok());
-  std::optional<JobClaims::Claim> claim = a->ClaimNext();
-  ASSERT_TRUE(claim.has_value());
-  std::shared_ptr<Job> runner = Job::Resume(claim->id, NotchJobSpec(), false, claim->create_time,
-                                            claim->next_sequence, nullptr);
-  a->Adopt(runner);
-  ASSERT_TRUE(runner->Start(absl::Now()));
+  std::shared_ptr<Job> runner = ClaimAndRun(*a);
+  ASSERT_NE(runner, nullptr);
   std::shared_ptr<Job> mirror = b->Find("running", absl::Now());
   ASSERT_NE(mirror, nullptr);
   EXPECT_EQ(mirror->state(), v1::RUNNING);
