@@ -1,14 +1,10 @@
 #include "tests/integration/server_process.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -19,8 +15,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "absl/time/clock.h"
-
-extern char** environ;
+#include "tests/support/child_process.h"
 
 namespace ispq::testing {
 namespace {
@@ -56,33 +51,14 @@ absl::StatusOr<std::unique_ptr<ServerProcess>> ServerProcess::Start(
   const std::string port_file = server->directory_ + "/port";
   const std::string log_file = server->directory_ + "/server.log";
 
-  std::vector<std::string> arguments = {server_binary, "--listen=127.0.0.1:0",
-                                        "--port_file=" + port_file};
-  arguments.insert(arguments.end(), flags.begin(), flags.end());
-  std::vector<char*> argv;
-  for (std::string& argument : arguments) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log_file.c_str(),
-                                   O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  // The child starts with no blocked signals, whatever the test process blocks.
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  sigset_t no_signals;
-  sigemptyset(&no_signals);
-  posix_spawnattr_setsigmask(&attributes, &no_signals);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
-  const int spawned = posix_spawn(&server->pid_, server_binary.c_str(), &actions, &attributes,
-                                  argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attributes);
-  if (spawned != 0) {
-    return absl::InternalError(
-        absl::StrCat("cannot start ", server_binary, ": ", std::strerror(spawned)));
-  }
+  ChildProcessOptions child;
+  child.argv = {server_binary, "--listen=127.0.0.1:0", "--port_file=" + port_file};
+  child.argv.insert(child.argv.end(), flags.begin(), flags.end());
+  child.output_path = log_file;
+  child.death_signal = SIGKILL;  // a crashed test's server has nobody left to drain for
+  absl::StatusOr<pid_t> pid = StartChildProcess(child);
+  if (!pid.ok()) return pid.status();
+  server->pid_ = *pid;
 
   const absl::Time deadline = absl::Now() + timeout;
   while (absl::Now() < deadline) {
@@ -124,10 +100,9 @@ void ServerProcess::Signal(int signal_number) const {
 
 bool ServerProcess::running() {
   if (exit_code_.has_value()) return false;
-  int status = 0;
-  const pid_t result = waitpid(pid_, &status, WNOHANG);
-  if (result == 0) return true;
-  exit_code_ = (result == pid_ && WIFEXITED(status)) ? WEXITSTATUS(status) : -1;
+  const std::optional<int> status = PollChild(pid_);
+  if (!status.has_value()) return true;
+  exit_code_ = WIFEXITED(*status) ? WEXITSTATUS(*status) : -1;
   return false;
 }
 

@@ -3,6 +3,11 @@
 // The server listens on 127.0.0.1:0 and writes the port it bound (--port_file), so tests never
 // race for ports. Its log (stderr) goes to a file the test can read, e.g. to check the
 // structured job lines or to explain a failure. The destructor kills a server still running.
+//
+// The server dies with the test process however the test ends, a crash or SIGKILL included:
+// it is started through tests/support/child_process.h (PR_SET_PDEATHSIG), from a thread that
+// lives as long as the process, so any thread may start one, and a server started from a
+// short-lived thread outlives that thread.
 #ifndef ISPQ_TESTS_INTEGRATION_SERVER_PROCESS_H_
 #define ISPQ_TESTS_INTEGRATION_SERVER_PROCESS_H_
 
@@ -21,10 +26,11 @@ namespace ispq::testing {
 class ServerProcess {
  public:
   // Starts `server_binary` with `flags` (plus --listen and --port_file) and waits until it
-  // listens. Fails with the server's log if it exits or does not listen within `timeout`.
+  // listens. Fails with the server's log if it exits or does not listen within `timeout` (only
+  // a safety net for a hung start: a loaded machine may take a while).
   static absl::StatusOr<std::unique_ptr<ServerProcess>> Start(
       const std::string& server_binary, const std::vector<std::string>& flags,
-      absl::Duration timeout = absl::Seconds(60));
+      absl::Duration timeout = absl::Seconds(300));
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
