@@ -60,8 +60,8 @@ std::shared_ptr<Job> JobClaimer::ClaimOne(const Readmit& readmit) {
       absl::SleepFor(claims_.poll_interval());
     } else {
       claims_.Fail(*claim, absl::Status(spec.status().code(),
-                                           absl::StrCat("the job's request can no longer run: ",
-                                                        spec.status().message())));
+                                        absl::StrCat("the job's request can no longer run: ",
+                                                     spec.status().message())));
     }
     return nullptr;
   }

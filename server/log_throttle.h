@@ -5,7 +5,8 @@
 //
 // Usage: a LogThrottle per kind of line, e.g. a member
 //   LogThrottle claim_failures_{absl::Seconds(10)};
-//   if (const auto held_back = claim_failures_.Admit()) spdlog::warn("... suppressed={}", *held_back);
+//   if (const auto held_back = claim_failures_.Admit()) spdlog::warn("... suppressed={}",
+//   *held_back);
 // Thread-safe.
 #ifndef ISPQ_SERVER_LOG_THROTTLE_H_
 #define ISPQ_SERVER_LOG_THROTTLE_H_

@@ -1,5 +1,6 @@
 #include "server/postgres_connections.h"
 
+#include <algorithm>
 #include <exception>
 #include <utility>
 
@@ -7,16 +8,20 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "server/log_throttle.h"
+#include "server/log_value.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
 namespace {
 
-// libpq parameters added to a URI that does not set them. connect_timeout is whole seconds (2
-// at least); keepalives notice a vanished peer within about idle + interval * count seconds.
+// libpq parameters added to a URI that does not set them (connect_timeout too, see
+// WithConnectionDefaults). Keepalives notice a vanished peer within about idle + interval *
+// count seconds.
 constexpr const char* kDefaultParameters[][2] = {
-    {"connect_timeout", "5"},   {"keepalives", "1"},        {"keepalives_idle", "10"},
-    {"keepalives_interval", "5"}, {"keepalives_count", "3"},
+    {"keepalives", "1"},
+    {"keepalives_idle", "10"},
+    {"keepalives_interval", "5"},
+    {"keepalives_count", "3"},
 };
 
 LogThrottle& ConnectFailures() {
@@ -26,26 +31,30 @@ LogThrottle& ConnectFailures() {
 
 }  // namespace
 
-std::string WithConnectionDefaults(const std::string& uri) {
+std::string WithConnectionDefaults(const std::string& uri, absl::Duration connect_timeout) {
   std::string result = uri;
   const size_t query = uri.find('?');
   const std::string parameters = query == std::string::npos ? "" : uri.substr(query + 1);
   bool first = query == std::string::npos;
-  for (const auto& [name, value] : kDefaultParameters) {
+  auto add = [&](const std::string& name, const std::string& value) {
     const std::string key = absl::StrCat(name, "=");
-    if (absl::StartsWith(parameters, key) || absl::StrContains(parameters, absl::StrCat("&", key))) {
-      continue;
+    if (absl::StartsWith(parameters, key) ||
+        absl::StrContains(parameters, absl::StrCat("&", key))) {
+      return;
     }
     absl::StrAppend(&result, first ? "?" : "&", key, value);
     first = false;
-  }
+  };
+  const int64_t seconds = absl::ToInt64Seconds(absl::Ceil(connect_timeout, absl::Seconds(1)));
+  add("connect_timeout", absl::StrCat(std::max<int64_t>(seconds, 2)));
+  for (const auto& [name, value] : kDefaultParameters) add(name, value);
   return result;
 }
 
 absl::StatusOr<std::shared_ptr<PostgresConnections>> PostgresConnections::Connect(
     PostgresConnectionOptions options) {
   std::shared_ptr<PostgresConnections> pool(
-      new PostgresConnections(WithConnectionDefaults(options.uri), options.operation_timeout));
+      new PostgresConnections(options.uri, options.operation_timeout));
   try {
     pool->idle_.push_back(std::make_unique<pqxx::connection>(pool->uri_));
   } catch (const std::exception& error) {
@@ -85,8 +94,8 @@ std::unique_ptr<pqxx::connection> PostgresConnections::Borrow(absl::Time deadlin
   } catch (const std::exception& error) {
     failure = error.what();
     if (const auto held_back = ConnectFailures().Admit()) {
-      spdlog::warn("event=job_store_connect_failed error=\"{}\" suppressed={}", error.what(),
-                   *held_back);
+      spdlog::warn("event=job_store_connect_failed error={} suppressed={}",
+                   QuotedLogValue(error.what()), *held_back);
     }
     Return(nullptr);
     return nullptr;
@@ -112,7 +121,7 @@ absl::Status PostgresConnections::Run(const std::function<void(pqxx::connection&
   std::string failure = "no connection to the database";
   for (int attempt = 0; attempt < 2 && absl::Now() < deadline; ++attempt) {
     std::unique_ptr<pqxx::connection> connection = Borrow(deadline, failure);
-    if (connection == nullptr) continue;
+    if (connection == nullptr) break;  // none free in time, or connecting failed
     enum { kDone, kFailed, kBroken, kTimedOut } outcome = kDone;
     {
       SocketDeadlines::Guard guard(deadlines_, connection->sock(), deadline);

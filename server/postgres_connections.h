@@ -7,8 +7,9 @@
 // Every operation is bounded in time: waiting for a free connection, connecting (libpq's
 // connect_timeout) and the operation itself (SocketDeadlines cuts the socket of an operation
 // still waiting at its deadline), so that a database that hangs without closing its connections
-// never holds a thread longer than the timeout. An operation that timed out is not retried: the
-// database did not answer, and a second try would only double the wait.
+// never holds a thread much longer than the timeout. Only a pooled connection found broken is
+// retried (on a new one); an operation that timed out or could not connect is not: the database
+// did not answer, and a second try would only double the wait.
 //
 // Errors never escape as exceptions: an operation that still fails is UNAVAILABLE with the
 // database's message, which callers pass on to clients as "retry later". A write cut by its
@@ -39,9 +40,10 @@ struct PostgresConnectionOptions {
 };
 
 // `uri` with the connection parameters ispq relies on added unless it sets them already:
-// connect_timeout (a database that accepts TCP but never answers) and TCP keepalives (a peer
-// that vanished while a connection was idle, e.g. the listener's).
-std::string WithConnectionDefaults(const std::string& uri);
+// connect_timeout (a database that accepts TCP but never answers; whole seconds, at least 2, as
+// libpq counts them) and TCP keepalives (a peer that vanished while a connection was idle, e.g.
+// the listener's).
+std::string WithConnectionDefaults(const std::string& uri, absl::Duration connect_timeout);
 
 class PostgresConnections {
  public:
@@ -56,11 +58,14 @@ class PostgresConnections {
   // the operation timeout, or `timeout` if given. Exceptions it throws become UNAVAILABLE
   // (broken connections are retried once first, timed-out operations are not).
   absl::Status Run(const std::function<void(pqxx::connection&)>& operation);
-  absl::Status Run(const std::function<void(pqxx::connection&)>& operation,
-                   absl::Duration timeout);
+  absl::Status Run(const std::function<void(pqxx::connection&)>& operation, absl::Duration timeout);
 
-  // The URI with WithConnectionDefaults applied, for connections of one's own (the listener).
+  // The URI with WithConnectionDefaults applied (connecting within the operation timeout), for
+  // connections of one's own (the listener); with another bound on connecting (a probe).
   const std::string& uri() const { return uri_; }
+  std::string UriConnectingWithin(absl::Duration timeout) const {
+    return WithConnectionDefaults(given_uri_, timeout);
+  }
   // The time bound of operations, and the deadlines that enforce it, for connections of one's
   // own.
   absl::Duration operation_timeout() const { return operation_timeout_; }
@@ -68,12 +73,15 @@ class PostgresConnections {
 
  private:
   PostgresConnections(std::string uri, absl::Duration operation_timeout)
-      : uri_(std::move(uri)), operation_timeout_(operation_timeout) {}
+      : given_uri_(std::move(uri)),
+        uri_(WithConnectionDefaults(given_uri_, operation_timeout)),
+        operation_timeout_(operation_timeout) {}
   // An idle or new connection; null if none is free by `deadline` or connecting failed
   // (`failure` says which).
   std::unique_ptr<pqxx::connection> Borrow(absl::Time deadline, std::string& failure);
   void Return(std::unique_ptr<pqxx::connection> connection);
 
+  const std::string given_uri_;
   const std::string uri_;
   const absl::Duration operation_timeout_;
   SocketDeadlines deadlines_;

@@ -7,6 +7,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "google/protobuf/util/time_util.h"
+#include "server/log_value.h"
 #include "server/postgres_job_rows.h"
 #include "spdlog/spdlog.h"
 
@@ -37,9 +38,10 @@ void PostgresJobRecorder::Stop() {
   absl::MutexLock lock(&mutex_);
   for (const auto& [id, record] : pending_) {
     if (record.dirty) {
-      spdlog::warn("event=job_record_dropped job=jobs/{} attempt={} reason=\"stopped before the "
-                   "job store took it; its lease expires and another replica runs it again\"",
-                   id, record.attempt);
+      spdlog::warn(
+          "event=job_record_dropped job=jobs/{} attempt={} reason=\"stopped before the "
+          "job store took it; its lease expires and another replica runs it again\"",
+          id, record.attempt);
     }
   }
   pending_.clear();
@@ -183,14 +185,15 @@ void PostgresJobRecorder::Settle(const std::string& id, const Pending& written, 
         break;
     }
   }
-  spdlog::warn("event=job_lease_lost job=jobs/{} attempt={} reason=\"the store refused the write: "
-               "another replica holds the job now\"",
-               id, written.attempt);
+  spdlog::warn(
+      "event=job_lease_lost job=jobs/{} attempt={} reason=\"the store refused the write: "
+      "another replica holds the job now\"",
+      id, written.attempt);
   if (abandoned != nullptr) AbandonRun(abandoned, bound_to_call);
 }
 
 std::optional<PostgresJobRecorder::Written> PostgresJobRecorder::Release(const std::string& id,
-                                                                        const Pending& record) {
+                                                                         const Pending& record) {
   std::optional<Written> outcome;
   const absl::Status status = connections_->Run([&](pqxx::connection& connection) {
     pqxx::work work(connection);
@@ -245,9 +248,10 @@ PostgresJobRecorder::Written PostgresJobRecorder::Write(const std::string& id,
   });
   if (!status.ok()) {
     if (const auto held_back = failures_.Admit()) {
-      spdlog::warn("event=job_record_failed job=jobs/{} error=\"{}\" suppressed={} "
-                   "retry=\"until written or the lease is gone\"",
-                   id, std::string(status.message()), *held_back);
+      spdlog::warn(
+          "event=job_record_failed job=jobs/{} error={} suppressed={} "
+          "retry=\"until written or the lease is gone\"",
+          id, QuotedLogValue(std::string(status.message())), *held_back);
     }
     return Written::kFailed;
   }

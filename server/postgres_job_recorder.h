@@ -86,7 +86,7 @@ class PostgresJobRecorder final : public JobEventSink {
     const Job* run = nullptr;  // which object's records these are (a job may be claimed anew)
     int attempt = 0;
     bool bound_to_call = false;
-    v1::Job summary;  // the latest
+    v1::Job summary;                                              // the latest
     std::array<std::optional<v1::QuantizeEvent>, kKinds> events;  // the latest of each kind
     bool dirty = false;
     bool release = false;  // draining: give the job back instead of writing its end

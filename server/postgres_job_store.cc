@@ -13,6 +13,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
 #include "google/protobuf/util/time_util.h"
+#include "server/log_value.h"
 #include "server/postgres_job_rows.h"
 #include "server/postgres_schema.h"
 #include "spdlog/spdlog.h"
@@ -280,8 +281,8 @@ void PostgresJobStore::Cancel(Job& job, absl::Time now) {
   });
   if (!status.ok()) {
     if (const auto held_back = query_failures_.Admit()) {
-      spdlog::warn("event=job_cancel_failed job={} error=\"{}\" suppressed={}", job.name(),
-                   std::string(status.message()), *held_back);
+      spdlog::warn("event=job_cancel_failed job={} error={} suppressed={}", job.name(),
+                   QuotedLogValue(std::string(status.message())), *held_back);
     }
   }
   Refresh(job.id());  // so that CancelJob answers with the state it caused
@@ -340,8 +341,8 @@ v1::JobCounts PostgresJobStore::CountByState() const {
   });
   if (!status.ok()) {
     if (const auto held_back = query_failures_.Admit()) {
-      spdlog::warn("event=job_count_failed error=\"{}\" suppressed={}",
-                   std::string(status.message()), *held_back);
+      spdlog::warn("event=job_count_failed error={} suppressed={}",
+                   QuotedLogValue(std::string(status.message())), *held_back);
     }
   }
   return counts;
@@ -386,8 +387,8 @@ std::optional<JobClaims::Claim> PostgresJobStore::ClaimNext() {
   });
   if (!status.ok()) {
     if (const auto held_back = claim_failures_.Admit()) {
-      spdlog::warn("event=job_claim_failed error=\"{}\" suppressed={}",
-                   std::string(status.message()), *held_back);
+      spdlog::warn("event=job_claim_failed error={} suppressed={}",
+                   QuotedLogValue(std::string(status.message())), *held_back);
     }
     return std::nullopt;
   }
@@ -532,8 +533,8 @@ void PostgresJobStore::RenewLeases() {
   });
   if (!status.ok()) {
     if (const auto held_back = lease_failures_.Admit()) {
-      spdlog::warn("event=lease_renewal_failed error=\"{}\" suppressed={}",
-                   std::string(status.message()), *held_back);
+      spdlog::warn("event=lease_renewal_failed error={} suppressed={}",
+                   QuotedLogValue(std::string(status.message())), *held_back);
     }
     return;
   }
@@ -562,8 +563,8 @@ void PostgresJobStore::EndOrphanedCallJobs() {
   });
   if (!status.ok()) {
     if (const auto held_back = sweep_failures_.Admit()) {
-      spdlog::warn("event=orphan_sweep_failed error=\"{}\" suppressed={}",
-                   std::string(status.message()), *held_back);
+      spdlog::warn("event=orphan_sweep_failed error={} suppressed={}",
+                   QuotedLogValue(std::string(status.message())), *held_back);
     }
   }
 }
@@ -576,8 +577,8 @@ void PostgresJobStore::PruneRetention() {
   });
   if (!pruned.ok()) {
     if (const auto held_back = sweep_failures_.Admit()) {
-      spdlog::warn("event=prune_failed error=\"{}\" suppressed={}",
-                   std::string(pruned.message()), *held_back);
+      spdlog::warn("event=prune_failed error={} suppressed={}",
+                   QuotedLogValue(std::string(pruned.message())), *held_back);
     }
   }
 }
@@ -588,9 +589,8 @@ void PostgresJobStore::MaintainLeases() {
   while (true) {
     {
       absl::MutexLock lock(&mutex_);
-      auto woken = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) {
-        return renew_now_ || stopping_;
-      };
+      auto woken = [this]()
+                       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return renew_now_ || stopping_; };
       mutex_.AwaitWithTimeout(absl::Condition(&woken), period);
       if (stopping_) return;
       renew_now_ = false;

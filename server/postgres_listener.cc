@@ -10,6 +10,7 @@
 #include "absl/time/time.h"
 #include "pqxx/pqxx"
 #include "server/log_throttle.h"
+#include "server/log_value.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
@@ -77,8 +78,8 @@ void PostgresListener::Run() {
       ListenOnce(reconnected);
     } catch (const std::exception& error) {
       if (const auto held_back = failures.Admit()) {
-        spdlog::warn("event=job_store_listen_failed error=\"{}\" suppressed={} retry_seconds={:.1f}",
-                     error.what(), *held_back, absl::ToDoubleSeconds(pause));
+        spdlog::warn("event=job_store_listen_failed error={} suppressed={} retry_seconds={:.1f}",
+                     QuotedLogValue(error.what()), *held_back, absl::ToDoubleSeconds(pause));
       }
     }
     reconnected = true;

@@ -3,6 +3,7 @@
 #include <optional>
 #include <utility>
 
+#include "server/log_value.h"
 #include "server/postgres_job_rows.h"
 #include "server/resource_names.h"
 #include "spdlog/spdlog.h"
@@ -68,8 +69,8 @@ std::shared_ptr<const StoredMesh> PostgresMeshStore::Find(const std::string& id)
   }
   absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(*proto, max_arcs_);
   if (!admitted.ok()) {
-    spdlog::error("event=stored_mesh_invalid mesh={} error=\"{}\"", id,
-                  std::string(admitted.status().message()));
+    spdlog::error("event=stored_mesh_invalid mesh={} error={}", id,
+                  QuotedLogValue(std::string(admitted.status().message())));
     return nullptr;
   }
   stored->id = id;

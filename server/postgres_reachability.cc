@@ -5,12 +5,13 @@
 #include <utility>
 
 #include "absl/time/clock.h"
+#include "server/log_value.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {
 
-PostgresReachability::PostgresReachability(PostgresConnections& connections,
-                                           absl::Duration period, absl::Duration timeout,
+PostgresReachability::PostgresReachability(PostgresConnections& connections, absl::Duration period,
+                                           absl::Duration timeout,
                                            std::function<void()> on_recovered)
     : connections_(connections),
       period_(period),
@@ -27,7 +28,9 @@ bool PostgresReachability::Ping() {
   std::string failure;
   try {
     // Connecting is bounded by the URI's connect_timeout, the query by the deadline.
-    if (connection_ == nullptr) connection_ = std::make_unique<pqxx::connection>(connections_.uri());
+    if (connection_ == nullptr) {
+      connection_ = std::make_unique<pqxx::connection>(connections_.UriConnectingWithin(timeout_));
+    }
     bool expired = false;
     {
       SocketDeadlines::Guard guard(connections_.deadlines(), connection_->sock(),
@@ -47,7 +50,7 @@ bool PostgresReachability::Ping() {
   if (failure.empty()) return true;
   connection_.reset();
   if (reachable()) {
-    spdlog::warn("event=job_store_unreachable error=\"{}\"", failure);
+    spdlog::warn("event=job_store_unreachable error={}", QuotedLogValue(failure));
   }
   return false;
 }

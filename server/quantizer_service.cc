@@ -87,9 +87,9 @@ bool QuantizerService::OffGrpcThread(AdmissionPool::Task task) {
 }
 
 absl::Status QuantizerService::StoreCallsFull() const {
-  return absl::UnavailableError(absl::StrCat(
-      "too many calls are waiting for the job store's database (", kMaxWaitingStoreCalls,
-      "): it answers slowly or not at all; retry later"));
+  return absl::UnavailableError(
+      absl::StrCat("too many calls are waiting for the job store's database (",
+                   kMaxWaitingStoreCalls, "): it answers slowly or not at all; retry later"));
 }
 
 absl::Status QuantizerService::DispatchRefused(int64_t request_bytes) const {

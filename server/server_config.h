@@ -50,7 +50,7 @@ struct ServerConfig {
   // spread over new replicas; zero: never. Streams in progress get the job time limit plus a
   // minute to finish.
   absl::Duration max_connection_age = absl::Minutes(5);
-  std::string http_listen_address;            // empty: no HTTP side (server/http/)
+  std::string http_listen_address;  // empty: no HTTP side (server/http/)
   int http_max_event_streams = 32;
 };
 

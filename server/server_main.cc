@@ -28,6 +28,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "core/read_file.h"
+#include "server/log_value.h"
 #include "server/memory_limit.h"
 #include "server/principal_tokens.h"
 #include "server/quantizer_server.h"
@@ -229,18 +230,21 @@ int main(int argc, char** argv) {
 
   absl::StatusOr<ispq::server::ServerConfig> config = ConfigFromFlags();
   if (!config.ok()) {
-    spdlog::error("event=config_error error=\"{}\"", std::string(config.status().message()));
+    spdlog::error("event=config_error error={}",
+                  ispq::server::QuotedLogValue(std::string(config.status().message())));
     return 1;
   }
   absl::StatusOr<std::unique_ptr<ispq::server::QuantizerServer>> server =
       ispq::server::QuantizerServer::Start(*config);
   if (!server.ok()) {
-    spdlog::error("event=start_error error=\"{}\"", std::string(server.status().message()));
+    spdlog::error("event=start_error error={}",
+                  ispq::server::QuotedLogValue(std::string(server.status().message())));
     return 1;
   }
   if (const std::string port_file = absl::GetFlag(FLAGS_port_file); !port_file.empty()) {
     if (absl::Status written = WritePortFile(port_file, (*server)->port()); !written.ok()) {
-      spdlog::error("event=start_error error=\"{}\"", std::string(written.message()));
+      spdlog::error("event=start_error error={}",
+                    ispq::server::QuotedLogValue(std::string(written.message())));
       return 1;
     }
   }
@@ -251,7 +255,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (absl::Status written = WritePortFile(port_file, (*server)->http_port()); !written.ok()) {
-      spdlog::error("event=start_error error=\"{}\"", std::string(written.message()));
+      spdlog::error("event=start_error error={}",
+                    ispq::server::QuotedLogValue(std::string(written.message())));
       return 1;
     }
   }
