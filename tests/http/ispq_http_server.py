@@ -13,6 +13,8 @@ SERVER = os.environ.get("ISPQ_SERVER_BINARY", "")
 CLI = os.environ.get("ISPQ_CLI", "")
 DATA = os.environ.get("ISPQ_TEST_DATA", "")
 ARTIFACTS = os.environ.get("ISPQ_TEST_ARTIFACTS", tempfile.gettempdir())
+# Bodies are JSON and say so: the server parses no other type.
+JSON = {"Content-Type": "application/json"}
 
 
 def require_environment():
@@ -86,8 +88,7 @@ class Server:
             connection.close()
 
     def json(self, method, path, body=None):
-        status, _, text = self.request(method, path, body=body,
-                                       headers={"Content-Type": "application/json"})
+        status, _, text = self.request(method, path, body=body, headers=JSON)
         if status != 200:
             raise AssertionError(f"{method} {path}: {status} {text}")
         return json.loads(text)

@@ -59,7 +59,8 @@ class MetricsTest(unittest.TestCase):
                 verdict = ispq.validate(os.path.join(ispq.DATA, "s07c_notch.tmesh.json"),
                                         job["result"], job["options"]["scaling"]["levelPercent"])
                 self.assertTrue(verdict.get("valid"), verdict)
-            status, _, _ = server.request("POST", "/v1/jobs", body='{"mesh": {"arcs": [{"length": -1}]}}')
+            status, _, _ = server.request("POST", "/v1/jobs", body='{"mesh": {"arcs": [{"length": -1}]}}',
+                                          headers=ispq.JSON)
             self.assertEqual(status, 400)
 
             after = scrape(server)
@@ -105,7 +106,8 @@ class ProbesTest(unittest.TestCase):
             running = server.submit(long_mesh, 100)["name"]
             queued = server.submit(long_mesh, 100)["name"]
             status, headers, text = server.request(
-                "POST", "/v1/jobs", body='{"mesh":' + long_mesh + ',"options":{"scaling":{"levelPercent":100}}}')
+                "POST", "/v1/jobs", body='{"mesh":' + long_mesh + ',"options":{"scaling":{"levelPercent":100}}}',
+                headers=ispq.JSON)
             self.assertEqual(status, 429, text)  # RESOURCE_EXHAUSTED: the queue is full
             self.assertIn("Retry-After", headers)
             self.assertEqual(json.loads(text)["status"], "RESOURCE_EXHAUSTED")
