@@ -144,6 +144,7 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
     http::HttpLimits limits;
     limits.max_body_bytes = config.max_message_bytes;
     limits.max_event_streams = config.http_max_event_streams;
+    limits.allowed_hosts = config.http_allowed_hosts;
     absl::StatusOr<std::unique_ptr<http::HttpServer>> http =
         http::HttpServer::Start(config.http_listen_address, std::move(parts), std::move(limits));
     if (!http.ok()) {
