@@ -52,6 +52,11 @@ int ConnectionDeadlines::ShutDownLate(absl::Time now) {
   return shut_down;
 }
 
+int ConnectionDeadlines::open() const {
+  absl::MutexLock lock(&mutex_);
+  return static_cast<int>(open_.size());
+}
+
 int64_t ConnectionDeadlines::shut_down_total() const {
   absl::MutexLock lock(&mutex_);
   return shut_down_total_;

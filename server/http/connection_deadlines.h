@@ -38,6 +38,7 @@ class ConnectionDeadlines {
   // Shuts down the connections past their deadlines; how many.
   int ShutDownLate(absl::Time now);
   int64_t shut_down_total() const;
+  int open() const;
 
  private:
   struct Entry {

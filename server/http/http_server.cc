@@ -161,7 +161,9 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string&
 absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
   AddJobRoutes(router_, parts_, limits_);
   AddEventStreamRoute(router_, parts_, streams_);
-  AddOperatorRoutes(router_, parts_, streams_);
+  AddOperatorRoutes(
+      router_, parts_,
+      HttpSideCounts{.streams = streams_, .connections = deadlines_, .refusals = refusals_});
   AddWebRoutes(router_);
   dispatcher_ = std::make_unique<RequestDispatcher>(DispatcherParts{
       .parts = parts_,
@@ -171,7 +173,8 @@ absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
       .lanes = {.operator_lane = &operator_pool_, .lookup = &lookup_pool_, .parse = &parse_pool_},
       .pending = pending_,
       .deadlines = deadlines_,
-      .suspensions = suspensions_});
+      .suspensions = suspensions_,
+      .refusals = refusals_});
   daemon_ = MHD_start_daemon(
       MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME | (ipv6 ? MHD_USE_IPv6 : 0), 0,
       nullptr, nullptr, &OnRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET, listen_socket,

@@ -47,6 +47,7 @@
 #include "server/http/event_streams.h"
 #include "server/http/handler_pool.h"
 #include "server/http/http_parts.h"
+#include "server/http/http_refusals.h"
 #include "server/http/http_router.h"
 #include "server/http/origin_policy.h"
 #include "server/http/pending_exchanges.h"
@@ -87,6 +88,7 @@ class HttpServer {
   EventStreams streams_;
   PendingExchanges pending_;
   ConnectionDeadlines deadlines_;
+  HttpRefusals refusals_;
   Router router_;
   std::unique_ptr<OriginPolicy> origins_;
   HandlerPool operator_pool_;

@@ -31,7 +31,7 @@ Route OperatorRoute(const char* path, Lane lane, RouteHandler handle) {
 
 }  // namespace
 
-void AddOperatorRoutes(Router& router, const HttpParts& parts, const EventStreams& streams) {
+void AddOperatorRoutes(Router& router, const HttpParts& parts, HttpSideCounts counts) {
   router.Add(OperatorRoute("/healthz", Lane::kInline,
                            [&parts](HttpRequest&, const std::shared_ptr<Responder>& responder) {
                              responder->Answer(
@@ -47,8 +47,12 @@ void AddOperatorRoutes(Router& router, const HttpParts& parts, const EventStream
       }));
   router.Add(OperatorRoute(
       "/metrics", Lane::kOperator,
-      [&parts, &streams](HttpRequest&, const std::shared_ptr<Responder>& responder) {
-        const HttpGauges http{.ready = parts.ready(), .open_event_streams = streams.open_streams()};
+      [&parts, counts](HttpRequest&, const std::shared_ptr<Responder>& responder) {
+        const HttpGauges http{.ready = parts.ready(),
+                              .open_event_streams = counts.streams.open_streams(),
+                              .open_connections = counts.connections.open(),
+                              .late_connections_total = counts.connections.shut_down_total(),
+                              .refused_total = counts.refusals.ByStatus()};
         HttpResponse response;
         response.headers.emplace_back("Cache-Control", "no-store");
         response.content_type = kPrometheusType;

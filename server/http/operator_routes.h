@@ -9,14 +9,23 @@
 #ifndef ISPQ_SERVER_HTTP_OPERATOR_ROUTES_H_
 #define ISPQ_SERVER_HTTP_OPERATOR_ROUTES_H_
 
+#include "server/http/connection_deadlines.h"
 #include "server/http/event_streams.h"
 #include "server/http/http_parts.h"
+#include "server/http/http_refusals.h"
 #include "server/http/http_router.h"
 
 namespace ispq::server::http {
 
-// `parts` and `streams` must outlive `router`.
-void AddOperatorRoutes(Router& router, const HttpParts& parts, const EventStreams& streams);
+// What the HTTP side counts of itself, for /metrics.
+struct HttpSideCounts {
+  const EventStreams& streams;
+  const ConnectionDeadlines& connections;
+  const HttpRefusals& refusals;
+};
+
+// `parts` and what `counts` refers to must outlive `router`.
+void AddOperatorRoutes(Router& router, const HttpParts& parts, HttpSideCounts counts);
 
 }  // namespace ispq::server::http
 

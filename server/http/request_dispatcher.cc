@@ -8,6 +8,7 @@
 #include "absl/strings/string_view.h"
 #include "absl/time/clock.h"
 #include "server/http/http_exchange.h"
+#include "server/http/http_status.h"
 #include "server/http/mhd_request.h"
 #include "server/http/mhd_response.h"
 #include "server/http/request_body.h"
@@ -35,6 +36,7 @@ MHD_Result RequestDispatcher::Handle(MHD_Connection* connection, const char* url
   *upload_data_size = 0;
   if (appended.ok()) return MHD_YES;
   // libmicrohttpd takes no response while a body arrives: the refusal goes ahead of the close.
+  parts_.refusals.Count(HttpStatusOf(appended));
   WriteRefusal(connection, appended);
   return MHD_NO;
 }
@@ -50,6 +52,7 @@ MHD_Result RequestDispatcher::Begin(MHD_Connection* connection, const char* url,
   const absl::Status checked = CheckHead(*exchange, size);
   if (checked.ok()) return MHD_YES;  // the body (if any) comes next
   exchange->route = nullptr;
+  parts_.refusals.Count(HttpStatusOf(checked));
   // Queued before the body is read: libmicrohttpd sends it and closes the connection.
   return Queue(connection, ErrorResponse(checked));
 }

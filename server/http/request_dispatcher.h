@@ -22,6 +22,7 @@
 #include "server/http/connection_deadlines.h"
 #include "server/http/handler_pool.h"
 #include "server/http/http_parts.h"
+#include "server/http/http_refusals.h"
 #include "server/http/http_router.h"
 #include "server/http/origin_policy.h"
 #include "server/http/pending_exchanges.h"
@@ -48,6 +49,7 @@ struct DispatcherParts {
   PendingExchanges& pending;
   ConnectionDeadlines& deadlines;
   Suspensions& suspensions;
+  HttpRefusals& refusals;
 };
 
 class RequestDispatcher {

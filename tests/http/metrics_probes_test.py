@@ -41,7 +41,8 @@ class MetricsTest(unittest.TestCase):
                 "ispq_solve_seconds": "histogram", "ispq_queue_wait_seconds": "histogram",
                 "ispq_memory_budget_bytes": "gauge", "ispq_memory_used_bytes": "gauge",
                 "ispq_memory_used_by_kind_bytes": "gauge", "ispq_ready": "gauge",
-                "ispq_http_event_streams": "gauge",
+                "ispq_http_event_streams": "gauge", "ispq_http_connections": "gauge",
+                "ispq_http_refused": "counter", "ispq_http_late_connections": "counter",
             }
             for name, kind in expected.items():
                 self.assertIn(name, before, f"{name} missing from /metrics")
