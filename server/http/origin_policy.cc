@@ -77,6 +77,9 @@ bool OriginPolicy::Allowed(absl::string_view host) const {
 
 absl::Status OriginPolicy::CheckHost(const HttpRequest& request) const {
   const absl::string_view host = request.Header("host");
+  const auto hosts =
+      absl::c_count_if(request.headers, [](const auto& h) { return h.first == "host"; });
+  if (hosts > 1) return absl::InvalidArgumentError("Host given more than once");
   if (!host.empty() && Allowed(host)) return absl::OkStatus();
   return WithHttpStatus(absl::PermissionDeniedError(absl::StrCat(
                             "Host ", host.empty() ? "missing" : std::string(host.substr(0, 100)),

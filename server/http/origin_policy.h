@@ -32,7 +32,7 @@ class OriginPolicy {
   OriginPolicy(const std::vector<std::string>& allowed_hosts, absl::string_view listen_host,
                int port);
 
-  // 421 unless the Host header is an allowed one.
+  // 421 unless the Host header is an allowed one; 400 if there are several.
   absl::Status CheckHost(const HttpRequest& request) const;
   // 403 for a POST without credentials whose Origin, if it has one, is another site's.
   absl::Status CheckOrigin(const HttpRequest& request) const;

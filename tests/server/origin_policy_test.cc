@@ -31,6 +31,9 @@ TEST(OriginPolicyTest, DefaultHostsAreTheListenAddressAndLoopbackAtThePort) {
        {"localhost", "localhost:8081", "evil.example:8080", "127.0.0.2:8080", "10.1.2.3", ""}) {
     EXPECT_EQ(HostStatus(policy, host), 421) << host;
   }
+  const absl::Status twice =
+      policy.CheckHost(Request("GET", {{"host", "localhost:8080"}, {"host", "evil.example"}}));
+  EXPECT_EQ(HttpStatusOf(twice), 400);
   const OriginPolicy v6({}, "::", 80);
   EXPECT_EQ(HostStatus(v6, "[::]:80"), 200);
   EXPECT_EQ(HostStatus(v6, "localhost"), 200);  // port 80 is implied
