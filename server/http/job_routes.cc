@@ -25,8 +25,9 @@ std::string JobName(const HttpRequest& request) {
 }
 
 // The body, checked, converted to the binary request and accounted in the budget as gRPC's bytes
-// are. The converted request is reserved (at the body's size, which it never exceeds) before it
-// is made; the JSON body is let go as soon as it is converted.
+// are. While it is converted, the binary form and protobuf's work are reserved at the body's size
+// (an estimate: the binary form of the API's JSON is usually smaller); the JSON body is let go as
+// soon as it is converted.
 absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& parts,
                                          const HttpLimits& limits) {
   if (request.body.empty()) {

@@ -59,6 +59,21 @@ MHD_Result RequestDispatcher::Begin(MHD_Connection* connection, const char* url,
 
 absl::Status RequestDispatcher::CheckHead(RequestExchange& exchange, const HeadSize& size) {
   HttpRequest& request = exchange.request();
+  absl::StatusOr<const Route*> route = FindRoute(request, size);
+  if (!route.ok()) return route.status();
+  absl::StatusOr<BodyFraming> framing = PlanBody(request, parts_.limits.max_body_bytes);
+  if (!framing.ok()) return framing.status();
+  const bool has_body = framing->chunked || framing->length > 0;
+  if (absl::Status sender = CheckSender(request, **route, has_body); !sender.ok()) return sender;
+  if (absl::Status expected = exchange.body().ExpectLength(framing->length); !expected.ok()) {
+    return expected;
+  }
+  exchange.route = *route;
+  return absl::OkStatus();
+}
+
+absl::StatusOr<const Route*> RequestDispatcher::FindRoute(HttpRequest& request,
+                                                          const HeadSize& size) const {
   if (stopping_) return ShuttingDown();
   if (absl::Status sized = CheckHeadSize(size, parts_.limits); !sized.ok()) return sized;
   const Route* route = parts_.router.Match(request.method, request.path, &request.id);
@@ -69,23 +84,20 @@ absl::Status RequestDispatcher::CheckHead(RequestExchange& exchange, const HeadS
     return absl::NotFoundError(
         absl::StrCat("no route for ", request.method, " ", request.path.substr(0, 200)));
   }
-  absl::StatusOr<BodyFraming> framing = PlanBody(request, parts_.limits.max_body_bytes);
-  if (!framing.ok()) return framing.status();
-  const bool has_body = framing->chunked || framing->length > 0;
+  return route;
+}
+
+absl::Status RequestDispatcher::CheckSender(HttpRequest& request, const Route& route,
+                                            bool has_body) const {
   // A POST without credentials must be one no other site's page can send (origin_policy.h).
   if (request.method == "POST" && (has_body || request.Header("authorization").empty())) {
     if (absl::Status type = CheckJsonContentType(request); !type.ok()) return type;
   }
   if (absl::Status origin = parts_.origins.CheckOrigin(request); !origin.ok()) return origin;
-  if (route->authenticated) {
-    absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts_.parts.authenticator);
-    if (!principal.ok()) return principal.status();
-    request.principal = *std::move(principal);
-  }
-  if (absl::Status expected = exchange.body().ExpectLength(framing->length); !expected.ok()) {
-    return expected;
-  }
-  exchange.route = route;
+  if (!route.authenticated) return absl::OkStatus();
+  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts_.parts.authenticator);
+  if (!principal.ok()) return principal.status();
+  request.principal = *std::move(principal);
   return absl::OkStatus();
 }
 

@@ -19,6 +19,7 @@
 #include <memory>
 
 #include "absl/status/status.h"
+#include "absl/status/statusor.h"
 #include "server/http/connection_deadlines.h"
 #include "server/http/handler_pool.h"
 #include "server/http/http_parts.h"
@@ -66,7 +67,12 @@ class RequestDispatcher {
 
  private:
   MHD_Result Begin(MHD_Connection* connection, const char* url, const char* method, void** context);
+  // Everything checked before the body, in the order above; sets the exchange's route.
   absl::Status CheckHead(RequestExchange& exchange, const HeadSize& size);
+  // The stop, the head's size, the Host and the route.
+  absl::StatusOr<const Route*> FindRoute(HttpRequest& request, const HeadSize& size) const;
+  // The Content-Type, the Origin and the caller (who is then the request's principal).
+  absl::Status CheckSender(HttpRequest& request, const Route& route, bool has_body) const;
   MHD_Result Finish(const std::shared_ptr<RequestExchange>& exchange);
   // Hands the request to its route; true if its connection was suspended for the answer.
   bool Dispatch(const std::shared_ptr<RequestExchange>& exchange);
