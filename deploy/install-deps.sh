@@ -13,7 +13,7 @@ PACKAGES=(
   libpqxx-dev  # the PostgreSQL job store (--job_store=postgresql://...)
   postgresql   # started by the tests of that store in a temporary directory
   yamllint     # checks the Kubernetes manifests (tests/deploy)
-  libcpp-httplib-dev  # the HTTP side of ispq-server (server/http/)
+  libmicrohttpd-dev  # the HTTP side of ispq-server (server/http/)
   chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
 )
 

@@ -143,10 +143,12 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
                           .metrics = owner->metrics_,
                           .live = [owner] { return owner->scheduler_.accepting(); },
                           .ready = [owner] { return owner->Ready(); }};
-    absl::StatusOr<std::unique_ptr<http::HttpServer>> http = http::HttpServer::Start(
-        config.http_listen_address, std::move(parts),
-        http::HttpLimits{.max_body_bytes = config.max_message_bytes,
-                         .max_event_streams = config.http_max_event_streams});
+    http::HttpLimits limits;
+    limits.max_body_bytes = config.max_message_bytes;
+    limits.max_event_streams = config.http_max_event_streams;
+    limits.allowed_hosts = config.http_allowed_hosts;
+    absl::StatusOr<std::unique_ptr<http::HttpServer>> http =
+        http::HttpServer::Start(config.http_listen_address, std::move(parts), std::move(limits));
     if (!http.ok()) {
       server->Shutdown();
       return http.status();

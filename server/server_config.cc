@@ -1,6 +1,7 @@
 #include "server/server_config.h"
 
 #include "absl/strings/str_cat.h"
+#include "server/http/origin_policy.h"
 
 namespace ispq::server {
 namespace {
@@ -31,6 +32,9 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
            AtLeast("http_max_event_streams", config.http_max_event_streams, 1),
        }) {
     if (!status.ok()) return status;
+  }
+  for (const std::string& host : config.http_allowed_hosts) {
+    if (absl::Status valid = http::ValidateAllowedHost(host); !valid.ok()) return valid;
   }
   if (config.max_job_time <= absl::ZeroDuration()) {
     return absl::InvalidArgumentError("--max_job_seconds must be positive");

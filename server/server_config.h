@@ -52,6 +52,8 @@ struct ServerConfig {
   absl::Duration max_connection_age = absl::Minutes(5);
   std::string http_listen_address;  // empty: no HTTP side (server/http/)
   int http_max_event_streams = 32;
+  // Host header values the HTTP side answers (server/http/origin_policy.h); empty: its defaults.
+  std::vector<std::string> http_allowed_hosts;
 };
 
 // INVALID_ARGUMENT naming the flag for values that cannot work.

@@ -4,7 +4,7 @@
 //   ispq-server [--listen 127.0.0.1:50051] [--workers N] [limits] [--max_memory_bytes SIZE]
 //               [--tls_cert F --tls_key F [--tls_client_ca F]]
 //               [--auth_token_file F | --auth_tokens_file F] [--admin_principals A,B]
-//               [--http_listen HOST:PORT]
+//               [--http_listen HOST:PORT] [--http_allowed_hosts H1,H2:PORT]
 //
 // Stops gracefully on SIGTERM or SIGINT and exits 0; exits 1 if it cannot start.
 #include <pthread.h>
@@ -84,6 +84,11 @@ ABSL_FLAG(std::string, http_port_file, "",
           "after binding, write the HTTP port to this file (with port 0 in --http_listen)");
 ABSL_FLAG(int, http_max_event_streams, 32,
           "server-sent-event streams open at once on the HTTP side; beyond, 429");
+ABSL_FLAG(std::vector<std::string>, http_allowed_hosts, {},
+          "Host header values the HTTP side answers (against DNS rebinding), comma-separated: "
+          "NAME (any port), NAME:PORT, [IPV6]:PORT, or * for any; others get 421 "
+          "(/healthz, /readyz and /metrics answer any); default: the --http_listen host, "
+          "localhost, 127.0.0.1 and [::1], each at the HTTP port");
 ABSL_FLAG(std::string, port_file, "",
           "after binding, write the port to this file (for scripts that listen on port 0)");
 ABSL_FLAG(std::string, log_level, "info", "trace, debug, info, warn, error or off");
@@ -192,6 +197,7 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   config.max_connection_age = absl::Seconds(absl::GetFlag(FLAGS_max_connection_age_seconds));
   config.http_listen_address = absl::GetFlag(FLAGS_http_listen);
   config.http_max_event_streams = absl::GetFlag(FLAGS_http_max_event_streams);
+  config.http_allowed_hosts = absl::GetFlag(FLAGS_http_allowed_hosts);
   return config;
 }
 

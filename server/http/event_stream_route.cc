@@ -22,10 +22,9 @@ namespace {
 
 // Silence longer than this gets a comment line, so that a vanished client is noticed.
 constexpr absl::Duration kKeepaliveInterval = absl::Seconds(15);
-// How often a waiting stream looks at the server's stopping flag.
-constexpr absl::Duration kWakeInterval = absl::Seconds(1);
 // What an EventSource waits before reconnecting after a broken connection.
 constexpr char kRetryField[] = "retry: 1000\n\n";
+constexpr char kKeepalive[] = ": keepalive\n\n";
 
 std::string EventFrame(const v1::QuantizeEvent& event) {
   return absl::StrCat("id: ", event.sequence(), "\ndata: ", ToJson(event), "\n\n");
@@ -36,94 +35,96 @@ std::string EndFrame(const absl::Status& status) {
 }
 
 // The first event to send: after Last-Event-ID if the client sends one, else ?fromEvent.
-absl::StatusOr<int64_t> FirstEvent(const httplib::Request& request) {
-  const std::string last = request.get_header_value("Last-Event-ID");
+absl::StatusOr<int64_t> FirstEvent(const HttpRequest& request) {
+  const std::string last(request.Header("last-event-id"));
   if (last.empty()) {
     return IntParam(request, "fromEvent", 0, 0, std::numeric_limits<int64_t>::max());
   }
   int64_t sequence = 0;
   if (!absl::SimpleAtoi(last, &sequence) || sequence < 0 ||
       sequence == std::numeric_limits<int64_t>::max()) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("Last-Event-ID ", last, " is not an event number of this stream"));
+    return absl::InvalidArgumentError(absl::StrCat("Last-Event-ID ", last.substr(0, 100),
+                                                   " is not an event number of this stream"));
   }
   return sequence + 1;
 }
 
-// One stream: writes what the feed has, as it comes.
-class EventWriter {
+// One stream: writes what the feed has, as it comes, one frame at a time; parks when there is
+// nothing to write.
+class EventWriter : public StreamedBody {
  public:
-  EventWriter(std::shared_ptr<JobEventFeed> feed, EventStreams& streams, MemoryBudget& budget)
-      : feed_(std::move(feed)), streams_(streams), budget_(budget) {}
+  EventWriter(std::shared_ptr<JobEventFeed> feed, EventStreams& streams)
+      : feed_(std::move(feed)), streams_(streams) {}
+  ~EventWriter() override { streams_.Close(feed_); }
 
-  // cpp-httplib's content provider: writes at most one frame per call and returns whether the
-  // stream goes on (false aborts the connection; done() ends it cleanly).
-  bool Provide(httplib::DataSink& sink) {
+  Step Produce(std::string& out, StreamConnection& connection) override {
     if (!started_) {
       started_ = true;
-      return Write(sink, kRetryField);
+      return Write(kRetryField, out);
     }
     while (true) {
-      if (!sink.is_writable()) return false;
-      const Job::StreamStep step = feed_->Next(absl::Now() + kWakeInterval);
-      if (step.event.has_value()) return Write(sink, EventFrame(*step.event));
+      const Job::StreamStep step = feed_->Next();
+      if (step.event.has_value()) return Write(EventFrame(*step.event), out);
       if (step.final_status.has_value()) {
-        const bool written = Write(sink, EndFrame(*step.final_status));
-        sink.done();
-        return written;
+        out = EndFrame(*step.final_status);
+        return Step::kLast;
       }
-      if (streams_.stopping()) return false;  // the client reconnects to a live server
-      if (absl::Now() - last_write_ >= kKeepaliveInterval) return Write(sink, ": keepalive\n\n");
+      if (streams_.stopping()) return Step::kAbort;  // the client reconnects to a live server
+      if (absl::Now() - last_write_ >= kKeepaliveInterval) return Write(kKeepalive, out);
+      if (feed_->Park([&connection] { connection.Suspend(); },
+                      [&connection] { connection.Resume(); })) {
+        return Step::kMore;  // nothing written: asked again once resumed
+      }
     }
   }
 
  private:
-  bool Write(httplib::DataSink& sink, const std::string& frame) {
-    // Accounted while it is written, as the event a gRPC stream has in flight.
-    MemoryReservation in_flight =
-        budget_.ForceReserve(MemoryUse::kResponses, static_cast<int64_t>(frame.size()));
+  Step Write(std::string frame, std::string& out) {
     last_write_ = absl::Now();
-    return sink.write(frame.data(), frame.size());
+    out = std::move(frame);
+    return Step::kMore;
   }
 
   const std::shared_ptr<JobEventFeed> feed_;
   EventStreams& streams_;
-  MemoryBudget& budget_;
   bool started_ = false;
   absl::Time last_write_ = absl::Now();
 };
 
-void WatchJob(const HttpParts& parts, EventStreams& streams, const httplib::Request& request,
-              httplib::Response& response) {
-  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
-  if (!principal.ok()) return ReplyError(response, principal.status());
+void WatchJob(const HttpParts& parts, EventStreams& streams, HttpRequest& request,
+              const std::shared_ptr<Responder>& responder) {
   absl::StatusOr<int64_t> from_event = FirstEvent(request);
-  if (!from_event.ok()) return ReplyError(response, from_event.status());
+  if (!from_event.ok()) return responder->Answer(ErrorResponse(from_event.status()));
   v1::WatchJobRequest watch;
-  watch.set_name(absl::StrCat(kJobCollection, "/", request.matches[1].str()));
+  watch.set_name(absl::StrCat(kJobCollection, "/", request.id));
   watch.set_from_event(*from_event);
-  absl::StatusOr<WatchTarget> target = parts.service.Watch(watch, *principal);
-  if (!target.ok()) return ReplyError(response, target.status());
+  absl::StatusOr<WatchTarget> target = parts.service.Watch(watch, request.principal);
+  if (!target.ok()) return responder->Answer(ErrorResponse(target.status()));
   absl::StatusOr<std::shared_ptr<JobEventFeed>> feed =
       streams.Open(std::move(target->job), target->from_event);
-  if (!feed.ok()) return ReplyError(response, feed.status());
+  if (!feed.ok()) return responder->Answer(ErrorResponse(feed.status()));
 
-  auto writer = std::make_shared<EventWriter>(*feed, streams, parts.memory.budget());
-  response.set_header("Cache-Control", "no-cache");
-  response.set_header("X-Accel-Buffering", "no");  // proxies: do not hold events back
-  response.set_chunked_content_provider(
-      "text/event-stream",
-      [writer](size_t /*offset*/, httplib::DataSink& sink) { return writer->Provide(sink); },
-      [&streams, feed = *feed](bool /*success*/) { streams.Close(feed); });
+  HttpResponse response;
+  response.content_type = "text/event-stream";
+  response.headers.emplace_back("Cache-Control", "no-cache");
+  response.headers.emplace_back("X-Accel-Buffering", "no");  // proxies: do not hold events back
+  response.stream = std::make_unique<EventWriter>(*std::move(feed), streams);
+  responder->Answer(std::move(response));
 }
 
 }  // namespace
 
-void AddEventStreamRoute(httplib::Server& server, const HttpParts& parts, EventStreams& streams) {
-  server.Get("/v1/jobs/([^/:]+):watch",
-             [&parts, &streams](const httplib::Request& request, httplib::Response& response) {
-               WatchJob(parts, streams, request, response);
-             });
+void AddEventStreamRoute(Router& router, const HttpParts& parts, EventStreams& streams) {
+  Route route;
+  route.method = "GET";
+  route.pattern = "/v1/jobs/{id}:watch";
+  route.lane = Lane::kLookup;
+  route.authenticated = true;
+  route.handle = [&parts, &streams](HttpRequest& request,
+                                    const std::shared_ptr<Responder>& responder) {
+    WatchJob(parts, streams, request, responder);
+  };
+  router.Add(std::move(route));
 }
 
 }  // namespace ispq::server::http

@@ -10,18 +10,20 @@
 // start is `?fromEvent=N` (WatchJob's from_event), or the `Last-Event-ID` header that a
 // reconnecting EventSource sends, which resumes after that event (from_event = id + 1) and takes
 // precedence. A comment line is sent every 15 s of silence, so that a vanished client is noticed
-// by a failed write. Streams are bounded in number (server/http/event_streams.h).
+// by a failed write. Streams are bounded in number (server/http/event_streams.h) and hold no
+// thread: a stream with nothing to send is parked until its job has a new event
+// (server/http/job_event_feed.h).
 #ifndef ISPQ_SERVER_HTTP_EVENT_STREAM_ROUTE_H_
 #define ISPQ_SERVER_HTTP_EVENT_STREAM_ROUTE_H_
 
-#include "httplib.h"
 #include "server/http/event_streams.h"
 #include "server/http/http_parts.h"
+#include "server/http/http_router.h"
 
 namespace ispq::server::http {
 
-// `parts` and `streams` must outlive `server`.
-void AddEventStreamRoute(httplib::Server& server, const HttpParts& parts, EventStreams& streams);
+// `parts` and `streams` must outlive `router` and the streams it opens.
+void AddEventStreamRoute(Router& router, const HttpParts& parts, EventStreams& streams);
 
 }  // namespace ispq::server::http
 

@@ -35,6 +35,8 @@ absl::StatusOr<std::shared_ptr<JobEventFeed>> EventStreams::Open(std::shared_ptr
   std::shared_ptr<JobEventFeed> feed = JobEventFeed::Watch(std::move(job), from_event);
   absl::MutexLock lock(&mutex_);
   --opening_;
+  // StopAll may have run meanwhile and would not have woken this one.
+  if (stopping_) return absl::UnavailableError("the server is shutting down");
   open_.insert(feed);
   return feed;
 }
@@ -44,14 +46,21 @@ void EventStreams::Close(const std::shared_ptr<JobEventFeed>& feed) {
   open_.erase(feed);
 }
 
-void EventStreams::StopAll() {
+void EventStreams::WakeAll() {
   std::vector<std::shared_ptr<JobEventFeed>> to_wake;
   {
     absl::MutexLock lock(&mutex_);
-    stopping_ = true;
     to_wake.assign(open_.begin(), open_.end());
   }
   for (const std::shared_ptr<JobEventFeed>& feed : to_wake) feed->Wake();
+}
+
+void EventStreams::StopAll() {
+  {
+    absl::MutexLock lock(&mutex_);
+    stopping_ = true;
+  }
+  WakeAll();
 }
 
 bool EventStreams::stopping() const {

@@ -1,6 +1,7 @@
 // The server-sent-event streams open on the HTTP side: at most a configured number at once (each
-// occupies one of cpp-httplib's threads for its whole life, so the bound keeps threads free for
-// the JSON API, the probes and /metrics), and all of them ended promptly at shutdown. Thread-safe.
+// holds a job watcher, a connection and the bytes in flight; none holds a thread: a stream with
+// nothing to write is parked, server/http/job_event_feed.h), woken every second so that a
+// silent stream can send its keepalive, and all of them ended promptly at shutdown. Thread-safe.
 #ifndef ISPQ_SERVER_HTTP_EVENT_STREAMS_H_
 #define ISPQ_SERVER_HTTP_EVENT_STREAMS_H_
 
@@ -25,6 +26,8 @@ class EventStreams {
   absl::StatusOr<std::shared_ptr<JobEventFeed>> Open(std::shared_ptr<Job> job, int64_t from_event);
   void Close(const std::shared_ptr<JobEventFeed>& feed);
 
+  // Wakes the open streams (each decides whether it is time for a keepalive).
+  void WakeAll();
   // Refuses new streams and wakes the open ones, which then end.
   void StopAll();
   bool stopping() const;

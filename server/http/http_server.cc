@@ -1,6 +1,13 @@
 #include "server/http/http_server.h"
 
-#include <cstdint>
+#include <microhttpd.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cstdarg>
+#include <cstdio>
 #include <string>
 #include <utility>
 
@@ -10,8 +17,8 @@
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "server/http/event_stream_route.h"
-#include "server/http/http_exchange.h"
 #include "server/http/job_routes.h"
+#include "server/http/mhd_request.h"
 #include "server/http/operator_routes.h"
 #include "server/http/web_routes.h"
 #include "spdlog/spdlog.h"
@@ -19,13 +26,22 @@
 namespace ispq::server::http {
 namespace {
 
-// Threads beyond the event streams' own: for the JSON API, the probes, /metrics and the page.
-constexpr int kRequestThreads = 8;
-constexpr time_t kReadTimeoutSeconds = 30;   // a client sending a body slowly
-constexpr time_t kWriteTimeoutSeconds = 30;  // a client not reading its answer or events
-constexpr time_t kKeepAliveSeconds = 5;      // an idle connection holds a thread this long
-// At shutdown, how long event streams may take to write their jobs' last events.
+// libmicrohttpd's threads: they only read, write and run what never waits, so two suffice.
+constexpr unsigned kEventThreads = 2;
+// Threads of the pools: /metrics; lookups, cancels and watches; submissions (each converting a
+// body of up to --max_message_bytes, which is also memory outside the budget's estimate).
+constexpr int kOperatorThreads = 1;
+constexpr int kLookupThreads = 4;
+constexpr int kParseThreads = 2;
+// A connection's memory pool: the request line and headers (HttpLimits' 8 + 32 KiB), the
+// parsed header entries and the read buffer fit; libmicrohttpd answers 414 or 431 beyond.
+constexpr size_t kConnectionMemoryBytes = 64 << 10;
+// At shutdown, how long event streams may take to write their jobs' last events, and how long
+// answered requests may take to leave their suspension.
 constexpr absl::Duration kStreamFlushTime = absl::Seconds(3);
+constexpr absl::Duration kResumeTime = absl::Seconds(2);
+constexpr absl::Duration kMaintenancePeriod = absl::Milliseconds(250);
+constexpr int kStreamWakeEvery = 4;  // periods: the streams look at their keepalive each second
 
 absl::StatusOr<std::pair<std::string, int>> HostAndPort(const std::string& address) {
   const size_t colon = address.rfind(':');
@@ -42,70 +58,155 @@ absl::StatusOr<std::pair<std::string, int>> HostAndPort(const std::string& addre
   return std::make_pair(host, port);
 }
 
+// A listening socket bound to `host`:`port`, or -1; `ipv6` says which family.
+int Listen(const std::string& host, int port, bool* ipv6) {
+  addrinfo hints = {};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  hints.ai_flags = AI_PASSIVE | AI_NUMERICSERV;
+  addrinfo* found = nullptr;
+  if (getaddrinfo(host.c_str(), std::to_string(port).c_str(), &hints, &found) != 0) return -1;
+  int listening = -1;
+  for (addrinfo* at = found; at != nullptr && listening < 0; at = at->ai_next) {
+    const int fd = socket(at->ai_family, at->ai_socktype | SOCK_CLOEXEC, at->ai_protocol);
+    if (fd < 0) continue;
+    const int on = 1;
+    setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &on, sizeof(on));
+    if (bind(fd, at->ai_addr, at->ai_addrlen) == 0 && listen(fd, SOMAXCONN) == 0) {
+      listening = fd;
+      *ipv6 = at->ai_family == AF_INET6;
+    } else {
+      close(fd);
+    }
+  }
+  freeaddrinfo(found);
+  return listening;
+}
+
+int BoundPort(int fd) {
+  sockaddr_storage address = {};
+  socklen_t length = sizeof(address);
+  if (getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length) != 0) return 0;
+  if (address.ss_family == AF_INET6) {
+    return ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
+  }
+  return ntohs(reinterpret_cast<const sockaddr_in*>(&address)->sin_port);
+}
+
+// libmicrohttpd's callbacks, on its event threads.
+MHD_Result OnRequest(void* dispatcher, MHD_Connection* connection, const char* url,
+                     const char* method, const char* /*version*/, const char* upload_data,
+                     size_t* upload_data_size, void** context) {
+  return static_cast<RequestDispatcher*>(dispatcher)
+      ->Handle(connection, url, method, upload_data, upload_data_size, context);
+}
+
+void OnCompleted(void* dispatcher, MHD_Connection* connection, void** context,
+                 MHD_RequestTerminationCode /*why*/) {
+  static_cast<RequestDispatcher*>(dispatcher)->Completed(connection, context);
+}
+
+void OnConnection(void* deadlines, MHD_Connection* connection, void** /*socket_context*/,
+                  MHD_ConnectionNotificationCode code) {
+  auto* const watched = static_cast<ConnectionDeadlines*>(deadlines);
+  if (code == MHD_CONNECTION_NOTIFY_STARTED) {
+    watched->Opened(connection, SocketOf(connection));
+  } else {
+    watched->Closed(connection);
+  }
+}
+
+// libmicrohttpd's messages (refused requests, closed connections) are routine under attack:
+// debug level only.
+void OnLibraryMessage(void* /*unused*/, const char* format, va_list arguments) {
+  if (!spdlog::should_log(spdlog::level::debug)) return;
+  char text[512];
+  std::vsnprintf(text, sizeof(text), format, arguments);
+  spdlog::debug("event=http_library message=\"{}\"", text);
+}
+
 }  // namespace
 
 HttpServer::HttpServer(HttpParts parts, HttpLimits limits)
-    : parts_(std::move(parts)), limits_(limits), streams_(limits.max_event_streams) {}
+    : parts_(std::move(parts)),
+      limits_(std::move(limits)),
+      streams_(limits_.max_event_streams),
+      deadlines_(limits_.head_deadline, limits_.body_deadline),
+      operator_pool_(kOperatorThreads, "ispq-http-ops"),
+      lookup_pool_(kLookupThreads, "ispq-http-look"),
+      parse_pool_(kParseThreads, "ispq-http-parse") {}
 
 absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string& listen_address,
                                                               HttpParts parts, HttpLimits limits) {
   absl::StatusOr<std::pair<std::string, int>> address = HostAndPort(listen_address);
   if (!address.ok()) return address.status();
-  std::unique_ptr<HttpServer> http(new HttpServer(std::move(parts), limits));
-  httplib::Server& server = http->server_;
-  const int threads = limits.max_event_streams + kRequestThreads;
-  server.new_task_queue = [threads] { return new httplib::ThreadPool(threads); };
-  server.set_payload_max_length(static_cast<size_t>(limits.max_body_bytes));
-  server.set_read_timeout(kReadTimeoutSeconds, 0);
-  server.set_write_timeout(kWriteTimeoutSeconds, 0);
-  server.set_keep_alive_timeout(kKeepAliveSeconds);
-  server.set_tcp_nodelay(true);  // events go out as they come, not batched by Nagle
-  server.set_exception_handler(
-      [](const httplib::Request& request, httplib::Response& response, std::exception_ptr) {
-        spdlog::error("event=http_exception method={} path={}", request.method, request.path);
-        ReplyError(response, absl::InternalError("the request failed inside the server"));
-      });
-  // Errors cpp-httplib answers itself (no route: 404, a body past the limit: 413, a malformed
-  // request: 400) get the same JSON body as the API's; the API's own errors keep theirs.
-  server.set_error_handler([](const httplib::Request& request, httplib::Response& response) {
-    if (!response.body.empty()) return;
-    if (response.status == 404) {
-      ReplyError(response, absl::NotFoundError(
-                               absl::StrCat("no route for ", request.method, " ", request.path)));
-    } else if (response.status == 413) {
-      // cpp-httplib also refuses form-encoded bodies (curl -d's default type) past 8 KiB.
-      ReplyError(response, absl::ResourceExhaustedError(
-                               "the body is larger than the server accepts (--max_message_bytes), "
-                               "or is form-encoded and larger than 8 KiB: send JSON with "
-                               "Content-Type: application/json"));
-      response.status = 413;
-    } else {
-      ReplyError(response, absl::InvalidArgumentError(absl::StrCat("the HTTP request was refused (",
-                                                                   response.status, ")")));
-    }
-  });
-
-  AddJobRoutes(server, http->parts_, http->limits_);
-  AddEventStreamRoute(server, http->parts_, http->streams_);
-  AddOperatorRoutes(server, http->parts_, http->streams_);
-  AddWebRoutes(server);
-
   const auto& [host, port] = *address;
-  if (port == 0) {
-    http->port_ = server.bind_to_any_port(host);
-  } else if (server.bind_to_port(host, port)) {
-    http->port_ = port;
-  }
-  if (http->port_ <= 0) {
-    http->stopped_ = true;
+  bool ipv6 = false;
+  const int listening = Listen(host, port, &ipv6);
+  if (listening < 0) {
     return absl::UnavailableError(absl::StrCat("cannot listen on ", listen_address, " (HTTP)"));
   }
-  HttpServer* const self = http.get();
-  http->listener_ = std::thread([self] { self->server_.listen_after_bind(); });
-  // Stop only works on a running server: wait until the listener has taken over the socket.
-  const absl::Time deadline = absl::Now() + absl::Seconds(10);
-  while (!server.is_running() && absl::Now() < deadline) absl::SleepFor(absl::Milliseconds(1));
+  std::unique_ptr<HttpServer> http(new HttpServer(std::move(parts), std::move(limits)));
+  http->listen_socket_ = listening;
+  http->port_ = BoundPort(listening);
+  http->origins_ = std::make_unique<OriginPolicy>(http->limits_.allowed_hosts, host, http->port_);
+  if (absl::Status served = http->Serve(listening, ipv6); !served.ok()) {
+    http->stopped_ = true;
+    close(listening);
+    return served;
+  }
   return http;
+}
+
+absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
+  AddJobRoutes(router_, parts_, limits_);
+  AddEventStreamRoute(router_, parts_, streams_);
+  AddOperatorRoutes(
+      router_, parts_,
+      HttpSideCounts{.streams = streams_, .connections = deadlines_, .refusals = refusals_});
+  AddWebRoutes(router_);
+  dispatcher_ = std::make_unique<RequestDispatcher>(DispatcherParts{
+      .parts = parts_,
+      .limits = limits_,
+      .router = router_,
+      .origins = *origins_,
+      .lanes = {.operator_lane = &operator_pool_, .lookup = &lookup_pool_, .parse = &parse_pool_},
+      .pending = pending_,
+      .deadlines = deadlines_,
+      .suspensions = suspensions_,
+      .refusals = refusals_});
+  daemon_ = MHD_start_daemon(
+      MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME | (ipv6 ? MHD_USE_IPv6 : 0), 0,
+      nullptr, nullptr, &OnRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET, listen_socket,
+      MHD_OPTION_THREAD_POOL_SIZE, kEventThreads, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+      kConnectionMemoryBytes, MHD_OPTION_CONNECTION_LIMIT,
+      static_cast<unsigned>(limits_.max_connections), MHD_OPTION_CONNECTION_TIMEOUT,
+      static_cast<unsigned>(absl::ToInt64Seconds(limits_.idle_timeout)),
+      MHD_OPTION_NOTIFY_COMPLETED, &OnCompleted, dispatcher_.get(), MHD_OPTION_NOTIFY_CONNECTION,
+      &OnConnection, &deadlines_, MHD_OPTION_EXTERNAL_LOGGER, &OnLibraryMessage, nullptr,
+      MHD_OPTION_END);
+  if (daemon_ == nullptr) {
+    return absl::UnavailableError("cannot start the HTTP server (libmicrohttpd)");
+  }
+  maintenance_ = std::thread([this] { Maintain(); });
+  return absl::OkStatus();
+}
+
+void HttpServer::Maintain() {
+  for (int tick = 1;; ++tick) {
+    {
+      absl::MutexLock lock(&maintenance_mutex_);
+      auto stopping = [this]()
+                          ABSL_EXCLUSIVE_LOCKS_REQUIRED(maintenance_mutex_) { return stopping_; };
+      if (maintenance_mutex_.AwaitWithTimeout(absl::Condition(&stopping), kMaintenancePeriod)) {
+        return;
+      }
+    }
+    const absl::Time now = absl::Now();
+    pending_.Expire(now);
+    deadlines_.ShutDownLate(now);
+    if (tick % kStreamWakeEvery == 0) streams_.WakeAll();
+  }
 }
 
 HttpServer::~HttpServer() { Stop(); }
@@ -113,15 +214,36 @@ HttpServer::~HttpServer() { Stop(); }
 void HttpServer::Stop() {
   if (stopped_) return;
   stopped_ = true;
+  dispatcher_->StopAccepting();
+  // No new connections. The socket is ours to close, unless libmicrohttpd could not give it back.
+  if (MHD_quiesce_daemon(daemon_) == MHD_INVALID_SOCKET) listen_socket_ = -1;
   // The streams first write what their jobs still have (the jobs have ended by now), then end;
-  // stopping the listener before would cut them between two events.
+  // stopping the daemon before would cut them between two events.
   streams_.StopAll();
-  const absl::Time deadline = absl::Now() + kStreamFlushTime;
-  while (streams_.open_streams() > 0 && absl::Now() < deadline) {
+  const absl::Time flushed = absl::Now() + kStreamFlushTime;
+  while (streams_.open_streams() > 0 && absl::Now() < flushed) {
     absl::SleepFor(absl::Milliseconds(10));
   }
-  server_.stop();
-  if (listener_.joinable()) listener_.join();
+  pending_.StopAll();
+  const absl::Time resumed = absl::Now() + kResumeTime;
+  while (suspensions_.suspended() > 0 && absl::Now() < resumed) {
+    absl::SleepFor(absl::Milliseconds(10));
+  }
+  if (suspensions_.suspended() == 0) {
+    MHD_stop_daemon(daemon_);
+  } else {
+    // libmicrohttpd aborts when stopped with a suspended connection; the process is ending.
+    spdlog::error("event=http_stop_incomplete suspended_connections={}", suspensions_.suspended());
+  }
+  if (listen_socket_ >= 0) close(listen_socket_);
+  {
+    absl::MutexLock lock(&maintenance_mutex_);
+    stopping_ = true;
+  }
+  if (maintenance_.joinable()) maintenance_.join();
+  operator_pool_.Stop();
+  lookup_pool_.Stop();
+  parse_pool_.Stop();
 }
 
 }  // namespace ispq::server::http

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "absl/strings/cord.h"
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/time.h"
 #include "google/protobuf/struct.pb.h"
@@ -12,6 +14,11 @@
 #include "server/retry_hint.h"
 
 namespace ispq::server::http {
+namespace {
+
+constexpr char kHttpStatusPayload[] = "type.ispq.dev/ispq.server.HttpStatus";
+
+}  // namespace
 
 int HttpStatusCode(absl::StatusCode code) {
   switch (code) {
@@ -46,6 +53,20 @@ int HttpStatusCode(absl::StatusCode code) {
     default:
       return 500;
   }
+}
+
+absl::Status WithHttpStatus(absl::Status status, int http_status) {
+  status.SetPayload(kHttpStatusPayload, absl::Cord(absl::StrCat(http_status)));
+  return status;
+}
+
+int HttpStatusOf(const absl::Status& status) {
+  const auto payload = status.GetPayload(kHttpStatusPayload);  // an absl::optional
+  int http_status = 0;
+  if (payload.has_value() && absl::SimpleAtoi(std::string(*payload), &http_status)) {
+    return http_status;
+  }
+  return HttpStatusCode(status.code());
 }
 
 std::string ErrorJson(const absl::Status& status) {

@@ -13,28 +13,35 @@ std::shared_ptr<JobEventFeed> JobEventFeed::Watch(std::shared_ptr<Job> job, int6
 JobEventFeed::JobEventFeed(std::shared_ptr<Job> job, int64_t from_event)
     : job_(std::move(job)), next_sequence_(from_event) {}
 
-Job::StreamStep JobEventFeed::Next(absl::Time deadline) {
-  uint64_t seen = 0;
+Job::StreamStep JobEventFeed::Next() {
   {
     absl::MutexLock lock(&mutex_);
-    seen = wakeups_;
+    seen_ = wakeups_;
   }
   // Read after noting the wakeup count: an event appended after this read bumps the count, so
-  // the wait below cannot miss it.
+  // Park cannot miss it.
   Job::StreamStep step = job_->NextForStream(next_sequence_);
-  if (!step.event.has_value() && !step.final_status.has_value()) {
-    absl::MutexLock lock(&mutex_);
-    auto woken = [this, seen]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return wakeups_ != seen; };
-    mutex_.AwaitWithDeadline(absl::Condition(&woken), deadline);
-    return step;  // the caller asks again: the event (if any) is read with the lock released
-  }
   if (step.event.has_value()) next_sequence_ = step.event->sequence() + 1;
   return step;
+}
+
+bool JobEventFeed::Park(absl::FunctionRef<void()> suspend, std::function<void()> resume) {
+  absl::MutexLock lock(&mutex_);
+  if (wakeups_ != seen_) return false;
+  suspend();
+  resume_ = std::move(resume);
+  return true;
 }
 
 void JobEventFeed::Wake() {
   absl::MutexLock lock(&mutex_);
   ++wakeups_;
+  if (resume_) {
+    // Cheap (it signals the event thread), so it may run under the lock, as a job's watcher must.
+    std::function<void()> resume = std::move(resume_);
+    resume_ = nullptr;
+    resume();
+  }
 }
 
 }  // namespace ispq::server::http

@@ -1,20 +1,17 @@
 #include "server/http/job_routes.h"
 
-#include <atomic>
 #include <limits>
 #include <memory>
-#include <optional>
 #include <string>
 #include <utility>
 
-#include "absl/base/thread_annotations.h"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
-#include "absl/synchronization/mutex.h"
 #include "absl/time/time.h"
 #include "grpcpp/support/byte_buffer.h"
 #include "grpcpp/support/slice.h"
 #include "server/http/http_exchange.h"
+#include "server/http/json_guard.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
 #include "server/job_submission.h"
@@ -23,142 +20,128 @@
 namespace ispq::server::http {
 namespace {
 
-// How long a POST waits for its admission (parsing and validating a large mesh may wait for an
-// admission thread); then it is DEADLINE_EXCEEDED, as a gRPC call past its deadline. Retry with
-// the same request_id to learn what became of it.
-constexpr absl::Duration kAdmissionTimeout = absl::Seconds(60);
-
-std::string JobName(const httplib::Request& request) {
-  return absl::StrCat(kJobCollection, "/", request.matches[1].str());
+std::string JobName(const HttpRequest& request) {
+  return absl::StrCat(kJobCollection, "/", request.id);
 }
 
-// The answer of an admission, which may come from another thread.
-class PendingAnswer {
- public:
-  void Set(const JobSubmission::Outcome& outcome) {
-    absl::MutexLock lock(&mutex_);
-    outcome_ = outcome;
-  }
-  std::optional<JobSubmission::Outcome> WaitUntil(absl::Time deadline) {
-    absl::MutexLock lock(&mutex_);
-    auto answered = [this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_) { return outcome_.has_value(); };
-    mutex_.AwaitWithDeadline(absl::Condition(&answered), deadline);
-    return outcome_;
-  }
-
- private:
-  absl::Mutex mutex_;
-  std::optional<JobSubmission::Outcome> outcome_ ABSL_GUARDED_BY(mutex_);
-};
-
-// The body, converted to the binary request and accounted in the budget as gRPC's bytes are.
-// `body_memory` accounts for the JSON body itself, which cpp-httplib holds until the request ends.
-absl::StatusOr<RawRequest> BinaryRequest(const std::string& body, const HttpParts& parts,
-                                         const HttpLimits& limits, MemoryReservation& body_memory) {
-  if (body.empty()) {
+// The body, checked, converted to the binary request and accounted in the budget as gRPC's bytes
+// are. While it is converted, the binary form and protobuf's work are reserved at the body's size
+// (an estimate: the binary form of the API's JSON is usually smaller); the JSON body is let go as
+// soon as it is converted.
+absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& parts,
+                                         const HttpLimits& limits) {
+  if (request.body.empty()) {
     return absl::InvalidArgumentError("the body is empty: send an ispq.v1.QuantizeRequest in JSON");
   }
-  absl::StatusOr<MemoryReservation> accounted = parts.memory.Account(
-      MemoryUse::kRequests, static_cast<int64_t>(body.size()), "the request body");
-  if (!accounted.ok()) return accounted.status();
-  body_memory = *std::move(accounted);
-  absl::StatusOr<std::string> binary = JsonToBinary(*v1::QuantizeRequest::descriptor(), body);
+  if (absl::Status checked = CheckJsonBody(request.body); !checked.ok()) return checked;
+  absl::StatusOr<MemoryReservation> converted = parts.memory.Reserve(
+      MemoryUse::kRequests, static_cast<int64_t>(request.body.size()), "converting the request");
+  if (!converted.ok()) return converted.status();
+  absl::StatusOr<std::string> binary =
+      JsonToBinary(*v1::QuantizeRequest::descriptor(), request.body);
+  request.ReleaseBody();
   if (!binary.ok()) return binary.status();
   grpc::Slice slice(*binary);
   *binary = std::string();  // the slice holds the bytes now
   grpc::ByteBuffer buffer(&slice, 1);
+  converted->Release();  // TakeRequest accounts for the bytes themselves
   return TakeRequest(&buffer, limits.max_body_bytes, parts.memory);
 }
 
-void SubmitJob(const HttpParts& parts, const HttpLimits& limits, const httplib::Request& request,
-               httplib::Response& response) {
-  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
-  if (!principal.ok()) return ReplyError(response, principal.status());
-  MemoryReservation body_memory;  // until the handler returns
-  absl::StatusOr<RawRequest> raw = BinaryRequest(request.body, parts, limits, body_memory);
+void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& request,
+               const std::shared_ptr<Responder>& responder) {
+  absl::StatusOr<RawRequest> raw = BinaryRequest(request, parts, limits);
   if (!raw.ok()) {
     if (absl::IsInvalidArgument(raw.status())) parts.metrics.RecordRejectedInvalid();
-    return ReplyError(response, raw.status());
+    return responder->Answer(ErrorResponse(raw.status()));
   }
-  auto pending = std::make_shared<PendingAnswer>();
-  auto gave_up = std::make_shared<std::atomic<bool>>(false);
   JobSubmission submission;
-  submission.principal = *std::move(principal);
+  submission.principal = request.principal;
   submission.raw = *std::move(raw);
-  submission.peer = absl::StrCat("http:", request.remote_addr, ":", request.remote_port);
-  submission.abandoned = [gave_up] { return gave_up->load(); };
-  submission.answer = [pending](const JobSubmission::Outcome& job) { pending->Set(job); };
+  submission.peer = absl::StrCat("http:", request.peer);
+  submission.abandoned = [responder] { return responder->Answered(); };
+  // On whichever thread decides; the answer is small (the new job, or the one a repeated
+  // requestId names).
+  submission.answer = [&parts, responder](const JobSubmission::Outcome& job) {
+    if (!job.ok()) return responder->Answer(ErrorResponse(job.status()));
+    responder->Answer(JsonResponse((*job)->ToProto(v1::FULL), parts.memory));
+  };
   parts.service.Submit(std::move(submission));
-  const std::optional<JobSubmission::Outcome> job =
-      pending->WaitUntil(absl::Now() + kAdmissionTimeout);
-  if (!job.has_value()) {
-    gave_up->store(true);
-    return ReplyError(response, absl::DeadlineExceededError(absl::StrCat(
-                                    "the request was not admitted within ",
-                                    absl::FormatDuration(kAdmissionTimeout),
-                                    "; retry with the same requestId to learn what became of it")));
-  }
-  if (!job->ok()) return ReplyError(response, job->status());
-  ReplyJson(response, (**job)->ToProto(v1::FULL), parts.memory);
 }
 
-void GetJob(const HttpParts& parts, const httplib::Request& request, httplib::Response& response) {
-  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
-  if (!principal.ok()) return ReplyError(response, principal.status());
+void GetJob(const HttpParts& parts, HttpRequest& request,
+            const std::shared_ptr<Responder>& responder) {
   absl::StatusOr<v1::JobView> view = ViewParam(request);
-  if (!view.ok()) return ReplyError(response, view.status());
+  if (!view.ok()) return responder->Answer(ErrorResponse(view.status()));
   v1::GetJobRequest get;
   get.set_name(JobName(request));
   get.set_view(*view);
-  Reply(response, parts.service.GetJob(get, *principal), parts.memory);
+  responder->Answer(Reply(parts.service.GetJob(get, request.principal), parts.memory));
 }
 
-void ListJobs(const HttpParts& parts, const httplib::Request& request,
-              httplib::Response& response) {
-  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
-  if (!principal.ok()) return ReplyError(response, principal.status());
+absl::StatusOr<v1::ListJobsRequest> ListRequest(const HttpRequest& request) {
   v1::ListJobsRequest list;
   absl::StatusOr<int64_t> page_size =
       IntParam(request, "pageSize", 0, 0, std::numeric_limits<int32_t>::max());
-  if (!page_size.ok()) return ReplyError(response, page_size.status());
+  if (!page_size.ok()) return page_size.status();
   list.set_page_size(static_cast<int32_t>(*page_size));
   absl::StatusOr<v1::JobState> state = StateParam(request);
-  if (!state.ok()) return ReplyError(response, state.status());
+  if (!state.ok()) return state.status();
   list.set_state(*state);
   absl::StatusOr<v1::JobView> view = ViewParam(request);
-  if (!view.ok()) return ReplyError(response, view.status());
+  if (!view.ok()) return view.status();
   list.set_view(*view);
-  list.set_page_token(request.get_param_value("pageToken"));
-  Reply(response, parts.service.ListJobs(list, *principal), parts.memory);
+  list.set_page_token(std::string(request.Param("pageToken")));
+  return list;
 }
 
-void CancelJob(const HttpParts& parts, const httplib::Request& request,
-               httplib::Response& response) {
-  absl::StatusOr<Principal> principal = AuthenticateRequest(request, parts.authenticator);
-  if (!principal.ok()) return ReplyError(response, principal.status());
+void ListJobs(const HttpParts& parts, HttpRequest& request,
+              const std::shared_ptr<Responder>& responder) {
+  absl::StatusOr<v1::ListJobsRequest> list = ListRequest(request);
+  if (!list.ok()) return responder->Answer(ErrorResponse(list.status()));
+  responder->Answer(Reply(parts.service.ListJobs(*list, request.principal), parts.memory));
+}
+
+void CancelJob(const HttpParts& parts, HttpRequest& request,
+               const std::shared_ptr<Responder>& responder) {
   v1::CancelJobRequest cancel;
   cancel.set_name(JobName(request));
-  Reply(response, parts.service.CancelJob(cancel, *principal), parts.memory);
+  responder->Answer(Reply(parts.service.CancelJob(cancel, request.principal), parts.memory));
+}
+
+// A route over jobs: authenticated, on the lookup threads.
+Route JobRoute(const char* method, const char* pattern,
+               void (*handle)(const HttpParts&, HttpRequest&, const std::shared_ptr<Responder>&),
+               const HttpParts& parts) {
+  Route route;
+  route.method = method;
+  route.pattern = pattern;
+  route.lane = Lane::kLookup;
+  route.authenticated = true;
+  route.handle = [&parts, handle](HttpRequest& request,
+                                  const std::shared_ptr<Responder>& responder) {
+    handle(parts, request, responder);
+  };
+  return route;
 }
 
 }  // namespace
 
-void AddJobRoutes(httplib::Server& server, const HttpParts& parts, const HttpLimits& limits) {
-  server.Post("/v1/jobs",
-              [&parts, limits](const httplib::Request& request, httplib::Response& response) {
-                SubmitJob(parts, limits, request, response);
-              });
-  server.Get("/v1/jobs", [&parts](const httplib::Request& request, httplib::Response& response) {
-    ListJobs(parts, request, response);
-  });
-  server.Get("/v1/jobs/([^/:]+)",
-             [&parts](const httplib::Request& request, httplib::Response& response) {
-               GetJob(parts, request, response);
-             });
-  server.Post("/v1/jobs/([^/:]+):cancel",
-              [&parts](const httplib::Request& request, httplib::Response& response) {
-                CancelJob(parts, request, response);
-              });
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits) {
+  Route submit = JobRoute("POST", "/v1/jobs", nullptr, parts);
+  submit.lane = Lane::kParse;
+  submit.takes_body = true;
+  submit.timeout_message = absl::StrCat(
+      "the request was not admitted within ", absl::FormatDuration(limits.answer_timeout),
+      "; retry with the same requestId to learn what became of it");
+  submit.handle = [&parts, limits](HttpRequest& request,
+                                   const std::shared_ptr<Responder>& responder) {
+    SubmitJob(parts, limits, request, responder);
+  };
+  router.Add(std::move(submit));
+  router.Add(JobRoute("GET", "/v1/jobs", &ListJobs, parts));
+  router.Add(JobRoute("GET", "/v1/jobs/{id}", &GetJob, parts));
+  router.Add(JobRoute("POST", "/v1/jobs/{id}:cancel", &CancelJob, parts));
 }
 
 }  // namespace ispq::server::http

@@ -8,17 +8,23 @@
 //                               &view=BASIC|FULL, default BASIC); answer a ListJobsResponse
 //   POST /v1/jobs/{id}:cancel   CancelJob; answer the Job
 //
-// The watch route is server/http/event_stream_route.h.
+// The watch route is server/http/event_stream_route.h. Every route authenticates its caller
+// from the request's head, before a body is read. A submission's body is checked
+// (server/http/json_guard.h) and converted on the parse threads, with the converted request's
+// memory reserved first; the answer comes when the service has admitted or refused it, without a
+// thread waiting for it, or after HttpLimits::answer_timeout as DEADLINE_EXCEEDED (retry with the
+// same requestId to learn what became of it). The other routes run on the lookup threads, since
+// the job store may take its time.
 #ifndef ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 #define ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 
-#include "httplib.h"
 #include "server/http/http_parts.h"
+#include "server/http/http_router.h"
 
 namespace ispq::server::http {
 
-// `parts` must outlive `server`.
-void AddJobRoutes(httplib::Server& server, const HttpParts& parts, const HttpLimits& limits);
+// `parts` must outlive `router`.
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits);
 
 }  // namespace ispq::server::http
 

@@ -1,5 +1,7 @@
 #include "server/http/operator_routes.h"
 
+#include <memory>
+
 #include "server/http/prometheus_text.h"
 
 namespace ispq::server::http {
@@ -8,30 +10,55 @@ namespace {
 constexpr char kTextType[] = "text/plain; charset=utf-8";
 constexpr char kPrometheusType[] = "text/plain; version=0.0.4; charset=utf-8";
 
-void Probe(bool up, const char* up_text, const char* down_text, httplib::Response& response) {
+HttpResponse Probe(bool up, const char* up_text, const char* down_text) {
+  HttpResponse response;
   response.status = up ? 200 : 503;
-  response.set_header("Cache-Control", "no-store");
-  response.set_content(up ? up_text : down_text, kTextType);
+  response.headers.emplace_back("Cache-Control", "no-store");
+  response.content_type = kTextType;
+  response.static_body = up ? up_text : down_text;
+  return response;
+}
+
+Route OperatorRoute(const char* path, Lane lane, RouteHandler handle) {
+  Route route;
+  route.method = "GET";
+  route.pattern = path;
+  route.lane = lane;
+  route.any_host = true;
+  route.handle = std::move(handle);
+  return route;
 }
 
 }  // namespace
 
-void AddOperatorRoutes(httplib::Server& server, const HttpParts& parts,
-                       const EventStreams& streams) {
-  server.Get("/healthz", [&parts](const httplib::Request&, httplib::Response& response) {
-    Probe(parts.live(), "SERVING\n", "NOT_SERVING: shutting down\n", response);
-  });
-  server.Get("/readyz", [&parts](const httplib::Request&, httplib::Response& response) {
-    Probe(parts.ready(), "READY\n",
-          "NOT_READY: shutting down, or a new job would be refused (queue, admission queue or "
-          "memory budget full)\n",
-          response);
-  });
-  server.Get("/metrics", [&parts, &streams](const httplib::Request&, httplib::Response& response) {
-    const HttpGauges http{.ready = parts.ready(), .open_event_streams = streams.open_streams()};
-    response.set_header("Cache-Control", "no-store");
-    response.set_content(PrometheusText(parts.service.Stats(), http), kPrometheusType);
-  });
+void AddOperatorRoutes(Router& router, const HttpParts& parts, HttpSideCounts counts) {
+  router.Add(OperatorRoute("/healthz", Lane::kInline,
+                           [&parts](HttpRequest&, const std::shared_ptr<Responder>& responder) {
+                             responder->Answer(
+                                 Probe(parts.live(), "SERVING\n", "NOT_SERVING: shutting down\n"));
+                           }));
+  router.Add(OperatorRoute(
+      "/readyz", Lane::kInline,
+      [&parts](HttpRequest&, const std::shared_ptr<Responder>& responder) {
+        responder->Answer(
+            Probe(parts.ready(), "READY\n",
+                  "NOT_READY: shutting down, or a new job would be refused (queue, admission queue "
+                  "or memory budget full)\n"));
+      }));
+  router.Add(OperatorRoute(
+      "/metrics", Lane::kOperator,
+      [&parts, counts](HttpRequest&, const std::shared_ptr<Responder>& responder) {
+        const HttpGauges http{.ready = parts.ready(),
+                              .open_event_streams = counts.streams.open_streams(),
+                              .open_connections = counts.connections.open(),
+                              .late_connections_total = counts.connections.shut_down_total(),
+                              .refused_total = counts.refusals.ByStatus()};
+        HttpResponse response;
+        response.headers.emplace_back("Cache-Control", "no-store");
+        response.content_type = kPrometheusType;
+        response.body = PrometheusText(parts.service.Stats(), http);
+        responder->Answer(std::move(response));
+      }));
 }
 
 }  // namespace ispq::server::http

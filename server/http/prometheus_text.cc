@@ -1,6 +1,7 @@
 #include "server/http/prometheus_text.h"
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -110,6 +111,16 @@ std::string PrometheusText(const v1::ServerStats& stats, const HttpGauges& http)
              http.ready ? 1 : 0);
   out.Single("ispq_http_event_streams", "gauge", "Server-sent-event streams open now.",
              http.open_event_streams);
+  out.Single("ispq_http_connections", "gauge", "HTTP connections open now.", http.open_connections);
+  out.Single("ispq_http_late_connections_total", "counter",
+             "HTTP connections shut down because a request's head or body came too slowly.",
+             static_cast<double>(http.late_connections_total));
+  std::vector<std::pair<std::string, double>> refused;
+  for (const auto& [status, count] : http.refused_total) {
+    refused.emplace_back(absl::StrCat("{status=\"", status, "\"}"), static_cast<double>(count));
+  }
+  out.Family("ispq_http_refused_total", "counter",
+             "HTTP requests refused before their route ran, by HTTP status.", refused);
   return out.Take();
 }
 

@@ -6,6 +6,8 @@
 #ifndef ISPQ_SERVER_HTTP_PROMETHEUS_TEXT_H_
 #define ISPQ_SERVER_HTTP_PROMETHEUS_TEXT_H_
 
+#include <cstdint>
+#include <map>
 #include <string>
 
 #include "ispq/v1/service.pb.h"
@@ -16,6 +18,9 @@ namespace ispq::server::http {
 struct HttpGauges {
   bool ready = false;
   int open_event_streams = 0;
+  int open_connections = 0;
+  int64_t late_connections_total = 0;    // shut down past their head or body deadline
+  std::map<int, int64_t> refused_total;  // by HTTP status
 };
 
 std::string PrometheusText(const v1::ServerStats& stats, const HttpGauges& http);

@@ -7,10 +7,10 @@
 
 namespace ispq::server::http {
 
-absl::StatusOr<int64_t> IntParam(const httplib::Request& request, const char* name,
-                                 int64_t fallback, int64_t minimum, int64_t maximum) {
-  if (!request.has_param(name)) return fallback;
-  const std::string text = request.get_param_value(name);
+absl::StatusOr<int64_t> IntParam(const HttpRequest& request, const char* name, int64_t fallback,
+                                 int64_t minimum, int64_t maximum) {
+  if (!request.HasParam(name)) return fallback;
+  const std::string text(request.Param(name));
   int64_t value = 0;
   if (!absl::SimpleAtoi(text, &value) || value < minimum || value > maximum) {
     return absl::InvalidArgumentError(absl::StrCat(
@@ -19,9 +19,9 @@ absl::StatusOr<int64_t> IntParam(const httplib::Request& request, const char* na
   return value;
 }
 
-absl::StatusOr<v1::JobView> ViewParam(const httplib::Request& request) {
-  if (!request.has_param("view")) return v1::JOB_VIEW_UNSPECIFIED;
-  const std::string text = request.get_param_value("view");
+absl::StatusOr<v1::JobView> ViewParam(const HttpRequest& request) {
+  if (!request.HasParam("view")) return v1::JOB_VIEW_UNSPECIFIED;
+  const std::string text(request.Param("view"));
   v1::JobView view = v1::JOB_VIEW_UNSPECIFIED;
   if (!v1::JobView_Parse(text, &view) || view == v1::JOB_VIEW_UNSPECIFIED) {
     return absl::InvalidArgumentError(
@@ -30,9 +30,9 @@ absl::StatusOr<v1::JobView> ViewParam(const httplib::Request& request) {
   return view;
 }
 
-absl::StatusOr<v1::JobState> StateParam(const httplib::Request& request) {
-  if (!request.has_param("state")) return v1::JOB_STATE_UNSPECIFIED;
-  const std::string text = request.get_param_value("state");
+absl::StatusOr<v1::JobState> StateParam(const HttpRequest& request) {
+  if (!request.HasParam("state")) return v1::JOB_STATE_UNSPECIFIED;
+  const std::string text(request.Param("state"));
   v1::JobState state = v1::JOB_STATE_UNSPECIFIED;
   if (!v1::JobState_Parse(text, &state) || state == v1::JOB_STATE_UNSPECIFIED) {
     return absl::InvalidArgumentError(absl::StrCat(

@@ -6,18 +6,18 @@
 #include <cstdint>
 
 #include "absl/status/statusor.h"
-#include "httplib.h"
 #include "ispq/v1/service.pb.h"
+#include "server/http/http_message.h"
 
 namespace ispq::server::http {
 
 // `name` as an integer in [minimum, maximum]; `fallback` when absent.
-absl::StatusOr<int64_t> IntParam(const httplib::Request& request, const char* name,
-                                 int64_t fallback, int64_t minimum, int64_t maximum);
+absl::StatusOr<int64_t> IntParam(const HttpRequest& request, const char* name, int64_t fallback,
+                                 int64_t minimum, int64_t maximum);
 // `view` (BASIC or FULL); unspecified when absent.
-absl::StatusOr<v1::JobView> ViewParam(const httplib::Request& request);
+absl::StatusOr<v1::JobView> ViewParam(const HttpRequest& request);
 // `state` (QUEUED, RUNNING, SUCCEEDED, FAILED or CANCELLED); unspecified when absent.
-absl::StatusOr<v1::JobState> StateParam(const httplib::Request& request);
+absl::StatusOr<v1::JobState> StateParam(const HttpRequest& request);
 
 }  // namespace ispq::server::http
 

@@ -1,5 +1,6 @@
 #include "server/http/web_routes.h"
 
+#include <memory>
 #include <string>
 
 #include "server/http/web_assets.h"
@@ -7,26 +8,34 @@
 namespace ispq::server::http {
 namespace {
 
-void Serve(const WebAsset& asset, httplib::Response& response) {
-  response.set_header("Cache-Control", "no-cache");  // a new server version shows at once
-  response.set_header("X-Content-Type-Options", "nosniff");
-  response.set_header("Content-Security-Policy",
-                      "default-src 'self'; img-src 'self' data: blob:; connect-src 'self' blob:");
-  response.set_content(std::string(asset.body), std::string(asset.content_type));
+HttpResponse Serve(const WebAsset& asset) {
+  HttpResponse response;
+  response.headers.emplace_back("Cache-Control", "no-cache");  // a new server version shows at once
+  response.headers.emplace_back("X-Content-Type-Options", "nosniff");
+  response.headers.emplace_back(
+      "Content-Security-Policy",
+      "default-src 'self'; img-src 'self' data: blob:; connect-src 'self' blob:");
+  response.content_type = std::string(asset.content_type);
+  response.static_body = absl::string_view(asset.body.data(), asset.body.size());
+  return response;
+}
+
+void AddAsset(Router& router, std::string path, const WebAsset& asset) {
+  Route route;
+  route.method = "GET";
+  route.pattern = std::move(path);
+  route.handle = [&asset](HttpRequest&, const std::shared_ptr<Responder>& responder) {
+    responder->Answer(Serve(asset));
+  };
+  router.Add(std::move(route));
 }
 
 }  // namespace
 
-void AddWebRoutes(httplib::Server& server) {
+void AddWebRoutes(Router& router) {
   for (const WebAsset& asset : WebAssets()) {
-    server.Get(
-        std::string(asset.path),
-        [&asset](const httplib::Request&, httplib::Response& response) { Serve(asset, response); });
-    if (asset.path == "/index.html") {
-      server.Get("/", [&asset](const httplib::Request&, httplib::Response& response) {
-        Serve(asset, response);
-      });
-    }
+    AddAsset(router, std::string(asset.path), asset);
+    if (asset.path == "/index.html") AddAsset(router, "/", asset);
   }
 }
 

@@ -16,6 +16,8 @@ SERVER = os.environ.get("ISPQ_SERVER_BINARY", "")
 CLI = os.environ.get("ISPQ_CLI", "")
 DATA = os.environ.get("ISPQ_TEST_DATA", "")
 ARTIFACTS = os.environ.get("ISPQ_TEST_ARTIFACTS", tempfile.gettempdir())
+# Bodies are JSON and say so: the server parses no other type.
+JSON = {"Content-Type": "application/json"}
 
 
 def require_environment():
@@ -42,7 +44,9 @@ class Server:
         self.port = self.http_port = 0
         while time.monotonic() < deadline and not self.http_port:
             if self.process.poll() is not None:
-                raise RuntimeError(f"ispq-server exited: {self.read_log()}")
+                log = self.read_log()
+                self.log.close()
+                raise RuntimeError(f"ispq-server exited: {log}")
             try:
                 with open(grpc_port_file) as f:
                     self.port = int(f.read())
@@ -89,8 +93,7 @@ class Server:
             connection.close()
 
     def json(self, method, path, body=None):
-        status, _, text = self.request(method, path, body=body,
-                                       headers={"Content-Type": "application/json"})
+        status, _, text = self.request(method, path, body=body, headers=JSON)
         if status != 200:
             raise AssertionError(f"{method} {path}: {status} {text}")
         return json.loads(text)
@@ -101,6 +104,16 @@ class Server:
         body = ('{"mesh":' + mesh_text + ',"options":{"scaling":{"levelPercent":' + str(level) +
                 '}}' + extra + '}')
         return self.json("POST", "/v1/jobs", body)
+
+    def metric(self, sample):
+        """The value of one /metrics sample, e.g. 'ispq_http_refused_total{status="415"}'."""
+        status, _, text = self.request("GET", "/metrics")
+        assert status == 200, (status, text)
+        for line in text.splitlines():
+            name, _, value = line.rpartition(" ")
+            if name == sample:
+                return float(value)
+        raise KeyError(sample)
 
     def wait_done(self, name, timeout=300):
         deadline = time.monotonic() + timeout

@@ -41,7 +41,8 @@ class MetricsTest(unittest.TestCase):
                 "ispq_solve_seconds": "histogram", "ispq_queue_wait_seconds": "histogram",
                 "ispq_memory_budget_bytes": "gauge", "ispq_memory_used_bytes": "gauge",
                 "ispq_memory_used_by_kind_bytes": "gauge", "ispq_ready": "gauge",
-                "ispq_http_event_streams": "gauge",
+                "ispq_http_event_streams": "gauge", "ispq_http_connections": "gauge",
+                "ispq_http_refused": "counter", "ispq_http_late_connections": "counter",
             }
             for name, kind in expected.items():
                 self.assertIn(name, before, f"{name} missing from /metrics")
@@ -59,7 +60,8 @@ class MetricsTest(unittest.TestCase):
                 verdict = ispq.validate(os.path.join(ispq.DATA, "s07c_notch.tmesh.json"),
                                         job["result"], job["options"]["scaling"]["levelPercent"])
                 self.assertTrue(verdict.get("valid"), verdict)
-            status, _, _ = server.request("POST", "/v1/jobs", body='{"mesh": {"arcs": [{"length": -1}]}}')
+            status, _, _ = server.request("POST", "/v1/jobs", body='{"mesh": {"arcs": [{"length": -1}]}}',
+                                          headers=ispq.JSON)
             self.assertEqual(status, 400)
 
             after = scrape(server)
@@ -105,7 +107,8 @@ class ProbesTest(unittest.TestCase):
             running = server.submit(long_mesh, 100)["name"]
             queued = server.submit(long_mesh, 100)["name"]
             status, headers, text = server.request(
-                "POST", "/v1/jobs", body='{"mesh":' + long_mesh + ',"options":{"scaling":{"levelPercent":100}}}')
+                "POST", "/v1/jobs", body='{"mesh":' + long_mesh + ',"options":{"scaling":{"levelPercent":100}}}',
+                headers=ispq.JSON)
             self.assertEqual(status, 429, text)  # RESOURCE_EXHAUSTED: the queue is full
             self.assertIn("Retry-After", headers)
             self.assertEqual(json.loads(text)["status"], "RESOURCE_EXHAUSTED")

@@ -1,7 +1,9 @@
 // Job events as server-sent events (GET /v1/jobs/{id}:watch, server/http/event_stream_route.h)
 // against a live server: the same events as gRPC's WatchJob for the same job, `id:` the event
-// number, resuming after Last-Event-ID, an `end` frame with the final status, and a bound on the
-// number of open streams.
+// number, resuming after Last-Event-ID, an `end` frame with the final status, a bound on the
+// number of open streams, and the job's last events written before the server stops.
+#include <signal.h>
+
 #include <string>
 #include <thread>
 #include <vector>
@@ -208,6 +210,38 @@ TEST(HttpEventStreamTest, OpenStreamsAreBounded) {
   }
   // The slot is free again.
   EXPECT_EQ(ReadEventStream(server.http_port, WatchPath(job->name())).status, 200);
+}
+
+// At SIGTERM the running job is interrupted near the end of the grace period; its stream, which
+// no thread waits on, is woken by the job's last event and writes it and the `end` frame before
+// the HTTP side stops.
+TEST(HttpEventStreamTest, StreamsEndWithTheirJobsLastEventsAtShutdown) {
+  HttpServer server = StartHttpServerOrFail({"--workers=1", "--shutdown_grace_seconds=8"});
+  ASSERT_NE(server.process, nullptr);
+  client::QuantizerClient client = ClientOf(*server.process);
+  const absl::StatusOr<v1::Job> job = client.SubmitJob(RequestFor(LongRunningMesh(), 100));
+  ASSERT_TRUE(job.ok()) << job.status();
+  ASSERT_TRUE(WaitForState(client, job->name(), v1::RUNNING).ok());
+
+  SseStream stream;
+  std::thread reader([&] { stream = ReadEventStream(server.http_port, WatchPath(job->name())); });
+  const absl::Time deadline = absl::Now() + absl::Seconds(30);
+  while (HttpGet(server.http_port, "/metrics").body.find("\nispq_http_event_streams 1\n") ==
+             std::string::npos &&
+         absl::Now() < deadline) {
+    absl::SleepFor(absl::Milliseconds(20));
+  }
+  server.process->Signal(SIGTERM);
+  reader.join();
+  EXPECT_EQ(server.process->WaitForExit(absl::Seconds(60)), 0);
+
+  EXPECT_EQ(stream.status, 200);
+  ASSERT_GE(stream.frames.size(), 2u);
+  EXPECT_EQ(stream.frames.back().event, "end");
+  const std::vector<v1::QuantizeEvent> events = EventsOf(stream);
+  ASSERT_FALSE(events.empty());
+  EXPECT_TRUE(events.back().has_result() || events.back().has_error())
+      << events.back().ShortDebugString();
 }
 
 }  // namespace

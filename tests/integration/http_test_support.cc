@@ -12,36 +12,24 @@
 #include "absl/strings/str_split.h"
 #include "absl/strings/strip.h"
 #include "absl/time/clock.h"
-#include "httplib.h"
+#include "tests/integration/http_client.h"
 #include "tests/integration/service_test_support.h"
 
 namespace ispq::testing {
 namespace {
 
-constexpr char kLoopback[] = "127.0.0.1";
-
-httplib::Client ClientFor(int port, absl::Duration timeout) {
-  httplib::Client client(kLoopback, port);
-  const auto seconds = static_cast<time_t>(absl::ToInt64Seconds(timeout));
-  client.set_connection_timeout(10, 0);
-  client.set_read_timeout(seconds, 0);
-  client.set_write_timeout(seconds, 0);
-  return client;
-}
-
-httplib::Headers HeadersWith(const std::string& token) {
-  httplib::Headers headers;
-  if (!token.empty()) headers.emplace("Authorization", absl::StrCat("Bearer ", token));
+HttpHeaderList HeadersWith(const std::string& token) {
+  HttpHeaderList headers;
+  if (!token.empty()) headers.emplace_back("Authorization", absl::StrCat("Bearer ", token));
   return headers;
 }
 
-HttpAnswer AnswerOf(const httplib::Result& result) {
+HttpAnswer AnswerOf(const HttpReply& reply) {
   HttpAnswer answer;
-  if (!result) return answer;
-  answer.status = result->status;
-  answer.body = result->body;
-  answer.content_type = result->get_header_value("Content-Type");
-  answer.retry_after = result->get_header_value("Retry-After");
+  answer.status = reply.status;
+  answer.body = reply.body;
+  answer.content_type = reply.Header("Content-Type");
+  answer.retry_after = reply.Header("Retry-After");
   return answer;
 }
 
@@ -102,44 +90,39 @@ HttpServer StartHttpServerOrFail(const std::vector<std::string>& flags) {
 }
 
 HttpAnswer HttpGet(int port, const std::string& path, const std::string& token) {
-  httplib::Client client = ClientFor(port, absl::Seconds(120));
-  return AnswerOf(client.Get(path, HeadersWith(token)));
+  return AnswerOf(SendHttpRequest(port, "GET", path, HeadersWith(token), "", absl::Seconds(120)));
 }
 
 HttpAnswer HttpPost(int port, const std::string& path, const std::string& body,
                     const std::string& token) {
-  httplib::Client client = ClientFor(port, absl::Seconds(120));
-  return AnswerOf(client.Post(path, HeadersWith(token), body, "application/json"));
+  HttpHeaderList headers = HeadersWith(token);
+  headers.emplace_back("Content-Type", "application/json");
+  return AnswerOf(SendHttpRequest(port, "POST", path, headers, body, absl::Seconds(120)));
 }
 
 SseStream ReadEventStream(int port, const std::string& path, const std::string& last_event_id,
                           const std::string& token, int max_frames, absl::Duration timeout) {
-  httplib::Client client = ClientFor(port, timeout);
-  httplib::Headers headers = HeadersWith(token);
-  headers.emplace("Accept", "text/event-stream");
-  if (!last_event_id.empty()) headers.emplace("Last-Event-ID", last_event_id);
+  HttpHeaderList headers = HeadersWith(token);
+  headers.emplace_back("Accept", "text/event-stream");
+  if (!last_event_id.empty()) headers.emplace_back("Last-Event-ID", last_event_id);
   SseStream stream;
   std::string buffer;
   std::string error_body;  // an error answer has a JSON body, not frames
-  const absl::Time deadline = absl::Now() + timeout;
-  const httplib::Result result = client.Get(
-      path, headers,
-      [&](const httplib::Response& response) {
-        stream.status = response.status;
-        stream.content_type = response.get_header_value("Content-Type");
-        return true;
-      },
-      [&](const char* data, size_t length) {
-        if (stream.status >= 400) {
-          error_body.append(data, length);
+  bool is_error = false;
+  const HttpReply reply = SendHttpRequest(
+      port, "GET", path, headers, "", timeout,
+      [&](absl::string_view data) {
+        if (is_error) {
+          error_body.append(data.data(), data.size());
           return true;
         }
-        buffer.append(data, length);
+        buffer.append(data.data(), data.size());
         TakeFrames(buffer, stream.frames);
-        if (max_frames > 0 && static_cast<int>(stream.frames.size()) >= max_frames) return false;
-        return absl::Now() < deadline;
-      });
-  if (result && stream.status == 0) stream.status = result->status;
+        return max_frames <= 0 || static_cast<int>(stream.frames.size()) < max_frames;
+      },
+      [&](const HttpReply& head) { is_error = head.status >= 400; });
+  stream.status = reply.status;
+  stream.content_type = reply.Header("Content-Type");
   // An error answer is kept as one frame, for its message.
   if (stream.status >= 400) stream.frames.push_back({"", "error", error_body});
   return stream;

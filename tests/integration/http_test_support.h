@@ -1,6 +1,7 @@
 // What the tests of the HTTP side (--http_listen, server/http/) share: a real ispq-server with
-// its HTTP listener on a free loopback port, a small JSON client (cpp-httplib's), a reader of
-// server-sent-event streams, and protobuf JSON parsing of what the server answers.
+// its HTTP listener on a free loopback port, a small JSON client (tests/integration/
+// http_client.h), a reader of server-sent-event streams, and protobuf JSON parsing of what the
+// server answers.
 #ifndef ISPQ_TESTS_INTEGRATION_HTTP_TEST_SUPPORT_H_
 #define ISPQ_TESTS_INTEGRATION_HTTP_TEST_SUPPORT_H_
 

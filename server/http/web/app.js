@@ -233,7 +233,9 @@ function showError(text) {
 async function cancelJob() {
   if (!selected) return;
   try {
-    await api('/v1/' + selected + ':cancel', { method: 'POST' });
+    // JSON, as the server asks of a POST without credentials (a cross-site page cannot send it).
+    await api('/v1/' + selected + ':cancel', {
+      method: 'POST', headers: { 'Content-Type': 'application/json' } });
   } catch (error) {
     showError(error.message);
   }
