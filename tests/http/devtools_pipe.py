@@ -1,6 +1,7 @@
 """A minimal Chrome DevTools Protocol client over --remote-debugging-pipe: headless Chromium reads
 NUL-terminated JSON commands on its fd 3 and writes responses and events on its fd 4, so driving
-it needs neither a websocket library nor a debugging port. Every wait is bounded."""
+it needs neither a websocket library nor a debugging port. Every wait is bounded. The browser dies
+with the test process, however that ends (its own helper processes follow their browser)."""
 import base64
 import json
 import os
@@ -9,6 +10,8 @@ import shutil
 import subprocess
 import tempfile
 import time
+
+from child_processes import die_with_parent
 
 
 class Browser:
@@ -19,7 +22,10 @@ class Browser:
         to_browser_read, self._to_browser = os.pipe()
         self._from_browser, from_browser_write = os.pipe()
 
+        tie_to_test = die_with_parent()
+
         def pipes_as_fd_3_and_4():
+            tie_to_test()
             os.dup2(to_browser_read, 3)
             os.dup2(from_browser_write, 4)
 

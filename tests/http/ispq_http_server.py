@@ -1,6 +1,7 @@
 """A live ispq-server with its HTTP side on free loopback ports, for the HTTP side's Python tests
 (tests/http). The binaries, the bundled data and the artifact directory come from the
-environment CTest sets (tests/http/CMakeLists.txt). Every wait is bounded."""
+environment CTest sets (tests/http/CMakeLists.txt). Every wait is bounded. The server dies with
+the test process, however that ends (die_with_parent)."""
 import http.client
 import json
 import os
@@ -8,6 +9,8 @@ import signal
 import subprocess
 import tempfile
 import time
+
+from child_processes import die_with_parent
 
 SERVER = os.environ.get("ISPQ_SERVER_BINARY", "")
 CLI = os.environ.get("ISPQ_CLI", "")
@@ -34,7 +37,7 @@ class Server:
         self.process = subprocess.Popen(
             [SERVER, "--listen=127.0.0.1:0", f"--port_file={grpc_port_file}",
              "--http_listen=127.0.0.1:0", f"--http_port_file={http_port_file}", *flags],
-            stdout=self.log, stderr=self.log)
+            stdout=self.log, stderr=self.log, preexec_fn=die_with_parent())
         deadline = time.monotonic() + timeout
         self.port = self.http_port = 0
         while time.monotonic() < deadline and not self.http_port:
