@@ -67,6 +67,9 @@ struct ChildFailure {
       dup2(output, STDERR_FILENO) < 0) {
     FailInChild(report_fd, "dup2");
   }
+  // Nothing else of the test's is inherited (e.g. the pipe a gtest death test's parent reads
+  // until every holder has closed it). Best effort: a kernel before 5.11 leaves them open.
+  close_range(3, ~0U, CLOSE_RANGE_CLOEXEC);
   if (options.run_as.has_value()) {
     const gid_t gid = options.run_as->gid;
     if (setgroups(1, &gid) != 0 || setgid(gid) != 0 || setuid(options.run_as->uid) != 0) {
