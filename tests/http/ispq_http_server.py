@@ -16,6 +16,9 @@ SERVER = os.environ.get("ISPQ_SERVER_BINARY", "")
 CLI = os.environ.get("ISPQ_CLI", "")
 DATA = os.environ.get("ISPQ_TEST_DATA", "")
 ARTIFACTS = os.environ.get("ISPQ_TEST_ARTIFACTS", tempfile.gettempdir())
+# Bounds waits that are not pass/fail conditions (a server starting, a status changing): only a
+# hang should reach it on a loaded 2-core machine. The ctest timeout (600 s) is the real bound.
+SAFETY_NET = 300
 
 
 def require_environment():
@@ -27,7 +30,7 @@ def require_environment():
 class Server:
     """ispq-server on 127.0.0.1:0 for both gRPC and HTTP; stopped with SIGTERM on exit."""
 
-    def __init__(self, *flags, timeout=60):
+    def __init__(self, *flags, timeout=SAFETY_NET):
         require_environment()
         self.directory = tempfile.mkdtemp(prefix="ispq-http-py-")
         grpc_port_file = os.path.join(self.directory, "port")
