@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -214,10 +215,13 @@ TEST_P(PostgresOfAKilledTestTest, EndsWithTheTestProcess) {
   ASSERT_GT(postmaster, 0) << "the child test wrote no record";
   std::filesystem::remove(record);
   const std::string name = std::filesystem::path(directory).filename();
+  const absl::Time died = absl::Now();  // about: the child test has just been reaped
   EXPECT_TRUE(WaitUntil([&] {
     return ProcessesWithCommandLineContaining(name).empty() && !std::filesystem::exists(directory);
   })) << "still running: "
       << Pids(ProcessesWithCommandLineContaining(name));
+  std::cout << "PostgreSQL and its directory were gone " << absl::FormatDuration(absl::Now() - died)
+            << " after the test process died\n";
   std::error_code ignored;
   std::filesystem::remove_all(directory, ignored);  // if the guard failed to
 }
