@@ -5,8 +5,10 @@ the test process, however that ends (die_with_parent)."""
 import http.client
 import json
 import os
+import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -63,7 +65,8 @@ class Server:
         with open(self.log_path) as f:
             return f.read()
 
-    def stop(self):
+    def stop(self, keep_log=False):
+        """Stops the server and removes its directory, unless `keep_log` (its path is printed)."""
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGTERM)
             try:
@@ -72,12 +75,16 @@ class Server:
                 self.process.kill()
                 self.process.wait()
         self.log.close()
+        if keep_log:
+            print(f"ispq-server's log: {self.log_path}", file=sys.stderr)
+        else:
+            shutil.rmtree(self.directory, ignore_errors=True)
 
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.stop()
+    def __exit__(self, exc_type, *exc):
+        self.stop(keep_log=exc_type is not None)  # a failed test keeps the log to read
 
     # ---- HTTP ----
 
