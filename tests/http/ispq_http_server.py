@@ -5,8 +5,10 @@ the test process, however that ends (die_with_parent)."""
 import http.client
 import json
 import os
+import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import time
 
@@ -18,6 +20,9 @@ DATA = os.environ.get("ISPQ_TEST_DATA", "")
 ARTIFACTS = os.environ.get("ISPQ_TEST_ARTIFACTS", tempfile.gettempdir())
 # Bodies are JSON and say so: the server parses no other type.
 JSON = {"Content-Type": "application/json"}
+# Bounds waits that are not pass/fail conditions (a server starting, a status changing): only a
+# hang should reach it on a loaded 2-core machine. The ctest timeout (600 s) is the real bound.
+SAFETY_NET = 300
 
 
 def require_environment():
@@ -29,7 +34,7 @@ def require_environment():
 class Server:
     """ispq-server on 127.0.0.1:0 for both gRPC and HTTP; stopped with SIGTERM on exit."""
 
-    def __init__(self, *flags, timeout=60):
+    def __init__(self, *flags, timeout=SAFETY_NET):
         require_environment()
         self.directory = tempfile.mkdtemp(prefix="ispq-http-py-")
         grpc_port_file = os.path.join(self.directory, "port")
@@ -64,7 +69,8 @@ class Server:
         with open(self.log_path) as f:
             return f.read()
 
-    def stop(self):
+    def stop(self, keep_log=False):
+        """Stops the server and removes its directory, unless `keep_log` (its path is printed)."""
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGTERM)
             try:
@@ -73,12 +79,16 @@ class Server:
                 self.process.kill()
                 self.process.wait()
         self.log.close()
+        if keep_log:
+            print(f"ispq-server's log: {self.log_path}", file=sys.stderr)
+        else:
+            shutil.rmtree(self.directory, ignore_errors=True)
 
     def __enter__(self):
         return self
 
-    def __exit__(self, *exc):
-        self.stop()
+    def __exit__(self, exc_type, *exc):
+        self.stop(keep_log=exc_type is not None)  # a failed test keeps the log to read
 
     # ---- HTTP ----
 

@@ -74,9 +74,10 @@ class WebViewBrowserTest(unittest.TestCase):
 
             shown = json.loads(browser.evaluate(SHOWN_RESULT))
             job_name = json.loads(server.request("GET", "/v1/jobs")[2])["jobs"][0]["name"]
-            # The job list catches up within its refresh interval.
+            # The job list catches up at its next refresh (bounded only against a hang).
             browser.wait_for("[...document.querySelectorAll('#jobs tbody tr')].some("
-                             "row => row.children[2].textContent === 'SUCCEEDED')", timeout=10)
+                             "row => row.children[2].textContent === 'SUCCEEDED')",
+                             timeout=ispq.SAFETY_NET)
             browser.screenshot(os.path.join(ispq.ARTIFACTS, "web_view.png"))
 
             # The downloadable result is the job's result.

@@ -164,7 +164,8 @@ TEST(HttpApiTest, CancelStopsARunningJob) {
   const HttpAnswer cancelled = HttpPost(server.http_port, JobPath(name, ":cancel"), "");
   ASSERT_EQ(cancelled.status, 200) << cancelled.body;
   EXPECT_EQ(FromJson<v1::Job>(cancelled.body).name(), name);
-  const absl::StatusOr<v1::Job> done = WaitUntilDone(grpc_client, name, absl::Seconds(60));
+  // CANCELLED, not SUCCEEDED, however long the cancel takes on a loaded machine.
+  const absl::StatusOr<v1::Job> done = WaitUntilDone(grpc_client, name);
   ASSERT_TRUE(done.ok()) << done.status();
   EXPECT_EQ(done->state(), v1::CANCELLED);
   // An interrupted job returns its best valid quantization if it found one.

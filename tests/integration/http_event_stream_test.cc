@@ -16,6 +16,7 @@
 #include "gtest/gtest.h"
 #include "tests/integration/http_test_support.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/bounded_wait.h"
 
 namespace ispq::testing {
 namespace {
@@ -188,8 +189,9 @@ TEST(HttpEventStreamTest, OpenStreamsAreBounded) {
 
   SseStream held;
   std::thread holder([&] { held = ReadEventStream(server.http_port, WatchPath(job->name())); });
-  // Once the holder's stream is open (as /metrics counts it), a second one is refused.
-  const absl::Time deadline = absl::Now() + absl::Seconds(30);
+  // Once the holder's stream is open (as /metrics counts it), a second one is refused. Bounded
+  // only against a hang: the second stream must not be tried before the first is open.
+  const absl::Time deadline = absl::Now() + kSafetyNet;
   while (HttpGet(server.http_port, "/metrics").body.find("\nispq_http_event_streams 1\n") ==
              std::string::npos &&
          absl::Now() < deadline) {

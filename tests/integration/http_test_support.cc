@@ -14,6 +14,7 @@
 #include "absl/time/clock.h"
 #include "tests/integration/http_client.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/bounded_wait.h"
 
 namespace ispq::testing {
 namespace {
@@ -70,8 +71,8 @@ HttpServer StartHttpServerOrFail(const std::vector<std::string>& flags) {
   all.push_back(absl::StrCat("--http_port_file=", port_file));
   server.process = StartServerOrFail(all);
   if (server.process == nullptr) return server;
-  // Written right after the gRPC port file.
-  const absl::Time deadline = absl::Now() + absl::Seconds(30);
+  // Written right after the gRPC port file (bounded only against a hang).
+  const absl::Time deadline = absl::Now() + kSafetyNet;
   while (absl::Now() < deadline) {
     std::ifstream in(port_file);
     int port = 0;

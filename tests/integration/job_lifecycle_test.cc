@@ -1,15 +1,18 @@
 // Jobs as resources: SubmitJob returns at once, the job runs whether or not anyone watches,
 // WatchJob resumes where a stream broke off, GetJob/ListJobs answer about it, CancelJob stops
 // it, and finished jobs stay retrievable within the retention limits.
+#include <iostream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "absl/strings/str_cat.h"
 #include "absl/synchronization/notification.h"
 #include "absl/time/clock.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/bounded_wait.h"
 
 namespace ispq::testing {
 namespace {
@@ -212,7 +215,10 @@ TEST(JobLifecycleTest, CancelJobInterruptsARunningJobAndWatchersGetItsResult) {
   ASSERT_TRUE(cancel.ok()) << cancel.status();
   EXPECT_TRUE(cancel->state() == v1::RUNNING || cancel->state() == v1::CANCELLED);
   watcher.join();
-  EXPECT_LT(absl::Now() - cancelled_at, absl::Seconds(60)) << "stops between LP solves";
+  // That the run stopped between LP solves rather than running to its end (about a minute)
+  // shows in its INTERRUPTED result; how soon depends on the machine's load: reported only.
+  std::cout << "the watcher had the result " << absl::FormatDuration(absl::Now() - cancelled_at)
+            << " after the cancel\n";
 
   EXPECT_TRUE(watched.status.ok()) << watched.status;
   ASSERT_TRUE(watched.result.has_value());
@@ -281,14 +287,26 @@ TEST(JobLifecycleTest, FinishedJobsAreKeptWithinTheRetentionCount) {
 }
 
 TEST(JobLifecycleTest, FinishedJobsAreKeptWithinTheRetentionTime) {
-  std::unique_ptr<ServerProcess> server = StartServerOrFail({"--retain_seconds=1"});
+  constexpr absl::Duration kRetention = absl::Seconds(5);
+  std::unique_ptr<ServerProcess> server =
+      StartServerOrFail({absl::StrCat("--retain_seconds=", absl::ToInt64Seconds(kRetention))});
   ASSERT_NE(server, nullptr);
   client::QuantizerClient client = ClientOf(*server);
+  // The job ends between `submitted` and `answered`: what the server must do at a given moment
+  // follows from those two times alone, however slow the machine.
+  const absl::Time submitted = absl::Now();
   const client::JobOutcome outcome =
       client.Quantize(RequestFor(NotchMesh(), 10), StreamFor(kJobTimeout));
+  const absl::Time answered = absl::Now();
   ASSERT_TRUE(outcome.status.ok()) << outcome.status;
-  EXPECT_TRUE(client.GetJob(outcome.job).ok());
-  absl::SleepFor(absl::Seconds(1.5));
+  const absl::StatusOr<v1::Job> kept = client.GetJob(outcome.job);
+  if (absl::Now() - submitted < kRetention) {
+    EXPECT_TRUE(kept.ok()) << kept.status();
+  } else {
+    std::cout << "too slow a machine to check that the job is kept: asked "
+              << absl::FormatDuration(absl::Now() - submitted) << " after submitting\n";
+  }
+  absl::SleepFor(answered + kRetention + absl::Milliseconds(500) - absl::Now());
   EXPECT_EQ(client.GetJob(outcome.job).status().code(), absl::StatusCode::kNotFound);
 }
 
@@ -307,7 +325,7 @@ TEST(JobLifecycleTest, ServerStatsCountJobsAndSolveTimes) {
   // A worker counts its job (and itself as idle) just after publishing the result, so a client
   // that has the result may ask a moment too early on a loaded machine.
   absl::StatusOr<v1::ServerStats> stats = client.GetServerStats();
-  for (const absl::Time deadline = absl::Now() + absl::Seconds(30);
+  for (const absl::Time deadline = absl::Now() + kSafetyNet;
        stats.ok() && stats->busy_workers() > 0 && absl::Now() < deadline;
        stats = client.GetServerStats()) {
     absl::SleepFor(absl::Milliseconds(10));

@@ -18,10 +18,12 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
+#include "absl/synchronization/notification.h"
 #include "absl/time/clock.h"
 #include "gtest/gtest.h"
 #include "tests/integration/server_process.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/bounded_wait.h"
 #include "tests/support/postgres_instance.h"
 
 namespace ispq::testing {
@@ -130,8 +132,8 @@ TEST_F(ReplicasTest, AJobSubmittedToOneReplicaIsWatchedFetchedAndCancelledThroug
   ASSERT_TRUE(long_job.ok()) << long_job.status();
   ASSERT_TRUE(WaitForState(watcher, long_job->name(), v1::RUNNING).ok());
   ASSERT_TRUE(other.CancelJob(long_job->name()).ok());
-  const absl::StatusOr<v1::Job> cancelled =
-      WaitUntilDone(submitter, long_job->name(), absl::Seconds(60));
+  // Ended by the cancel, not by its end: CANCELLED, however long the cancel took to arrive.
+  const absl::StatusOr<v1::Job> cancelled = WaitUntilDone(submitter, long_job->name());
   ASSERT_TRUE(cancelled.ok()) << cancelled.status() << "\n"
                               << replicas_[0]->Log() << replicas_[1]->Log() << replicas_[2]->Log();
   EXPECT_EQ(cancelled->state(), v1::CANCELLED)
@@ -162,51 +164,78 @@ TEST_F(ReplicasTest, AKilledReplicasJobsAreRunAgainElsewhereAndNothingIsLost) {
     if (long_job) long_jobs.push_back(job->name());
     mesh_of[job->name()] = &used;
   }
-  // Kill replica 0 once it runs a job; its watcher loses the stream.
-  std::string victim_job;
-  for (const absl::Time until = absl::Now() + absl::Seconds(60);
-       victim_job.empty() && absl::Now() < until;) {
+  // Kill a replica while it runs a long job (whichever replica claims one), once a watcher
+  // follows the job through it; the watcher loses the stream. Ordered by what the logs and the
+  // stream say, not by sleeps: on a loaded machine any step may take a while.
+  // A long job replica `replica` runs now, or "" (its log is read once: it grows long).
+  auto running_long_job = [&](size_t replica) -> std::string {
+    const std::string log = replicas_[replica]->Log();
     for (const std::string& job : long_jobs) {
-      if (replicas_[0]->Log().find(absl::StrCat("event=job_start job=", job)) !=
-              std::string::npos &&
-          replicas_[0]->Log().find(absl::StrCat("event=job_end job=", job)) == std::string::npos) {
-        victim_job = job;
-        break;
+      if (log.find(absl::StrCat("event=job_start job=", job)) != std::string::npos &&
+          log.find(absl::StrCat("event=job_end job=", job)) == std::string::npos) {
+        return job;
       }
     }
-    absl::SleepFor(absl::Milliseconds(20));
-  }
-  ASSERT_FALSE(victim_job.empty()) << "replica 0 never ran a job";
+    return "";
+  };
+  size_t victim = 0;
+  std::string victim_job;
   client::JobOutcome broken;
-  std::thread watching(
-      [&] { broken = clients[0].WatchJob(victim_job, 0, StreamFor(kJobTimeout)); });
-  absl::SleepFor(absl::Milliseconds(200));
-  replicas_[0]->Signal(SIGKILL);
-  const absl::Time killed = absl::Now();
-  ASSERT_TRUE(replicas_[0]->WaitForExit(absl::Seconds(10)).has_value());
-  watching.join();
+  absl::Time killed;
+  while (victim_job.empty()) {
+    std::string running;
+    ASSERT_TRUE(WaitUntil(
+        [&] {
+          for (victim = 0; victim < 3; ++victim) {
+            if (!(running = running_long_job(victim)).empty()) return true;
+          }
+          return false;
+        },
+        kJobTimeout, absl::Milliseconds(20)))
+        << "no replica was seen running a long job";
+    absl::Notification streaming;
+    std::thread watching([&] {
+      broken = clients[victim].WatchJob(running, 0,
+                                        StreamFor(kJobTimeout, [&](const v1::QuantizeEvent&) {
+                                          if (!streaming.HasBeenNotified()) streaming.Notify();
+                                          return true;
+                                        }));
+      if (!streaming.HasBeenNotified()) streaming.Notify();  // it failed before any event
+    });
+    streaming.WaitForNotification();
+    // The job may have ended meanwhile (then the stream ends with it): look for another one.
+    if (running_long_job(victim) == running) {
+      replicas_[victim]->Signal(SIGKILL);
+      killed = absl::Now();
+      victim_job = running;
+    }
+    watching.join();
+  }
+  ASSERT_TRUE(replicas_[victim]->WaitForExit(kSafetyNet).has_value());
   EXPECT_FALSE(broken.job_ended);
 
   // The watcher resumes through another replica and gets the result of the second run.
+  const size_t survivor = (victim + 1) % 3;
   const client::JobOutcome resumed =
-      clients[1].FollowJob(victim_job, broken.next_event, StreamFor(kJobTimeout));
+      clients[survivor].FollowJob(victim_job, broken.next_event, StreamFor(kJobTimeout));
   ASSERT_TRUE(resumed.status.ok()) << resumed.status;
   ASSERT_TRUE(resumed.result.has_value());
   EXPECT_TRUE(IsValidResult(mesh, *resumed.result));
   const absl::Duration rerun = absl::Now() - killed;
-  const bool claimed_again =
-      replicas_[1]->Log().find(absl::StrCat("event=job_claimed job=", victim_job, " attempt=2")) !=
-          std::string::npos ||
-      replicas_[2]->Log().find(absl::StrCat("event=job_claimed job=", victim_job, " attempt=2")) !=
-          std::string::npos;
+  bool claimed_again = false;
+  for (size_t i = 0; i < 3; ++i) {
+    claimed_again |=
+        i != victim && replicas_[i]->Log().find(absl::StrCat("event=job_claimed job=", victim_job,
+                                                             " attempt=2")) != std::string::npos;
+  }
   EXPECT_TRUE(claimed_again) << "the killed replica's job was run again by another";
   std::cout << "killed replica's job " << victim_job << " ended through another replica "
             << absl::ToDoubleSeconds(rerun) << " s after the kill (lease " << kLeaseSeconds
             << " s)\n";
 
-  ASSERT_NO_FATAL_FAILURE(StartReplica(0));  // back, as a Deployment would bring it
+  ASSERT_NO_FATAL_FAILURE(StartReplica(victim));  // back, as a Deployment would bring it
   for (const std::string& job : jobs) {
-    const absl::StatusOr<v1::Job> done = WaitUntilDone(clients[2], job);
+    const absl::StatusOr<v1::Job> done = WaitUntilDone(clients[survivor], job);
     ASSERT_TRUE(done.ok()) << done.status();
     ASSERT_NO_FATAL_FAILURE(ExpectSameValidResultEverywhere(job, *mesh_of[job]));
     ASSERT_TRUE(IsValidResult(*mesh_of[job], done->result())) << job;
@@ -290,7 +319,7 @@ TEST_F(ReplicasTest, RestartingEveryReplicaKeepsEveryJob) {
   // A rolling restart right away: whatever is queued or running goes on in the new replicas.
   for (size_t i = 0; i < 3; ++i) {
     replicas_[i]->Signal(SIGTERM);
-    ASSERT_EQ(replicas_[i]->WaitForExit(absl::Seconds(30)), std::optional<int>(0));
+    ASSERT_EQ(replicas_[i]->WaitForExit(kSafetyNet), std::optional<int>(0));
     ASSERT_NO_FATAL_FAILURE(StartReplica(i));
   }
   client::QuantizerClient client = Client(1);
@@ -310,21 +339,36 @@ TEST_F(ReplicasTest, RoundRobinSpreadsCallsOverEveryReplica) {
   connection.lb_policy = "round_robin";
   absl::StatusOr<client::QuantizerClient> balanced = client::QuantizerClient::Connect(connection);
   ASSERT_TRUE(balanced.ok()) << balanced.status();
-  // Let the policy connect to every address first, as a long-lived client would be.
-  ASSERT_TRUE(
-      balanced->channel()->WaitForConnected(absl::ToChronoTime(absl::Now() + absl::Seconds(10))));
-  absl::SleepFor(absl::Milliseconds(500));
+  auto accepted_per_replica = [&] {
+    std::vector<int64_t> accepted;
+    for (size_t i = 0; i < 3; ++i) {
+      const absl::StatusOr<v1::ServerStats> stats = Client(i).GetServerStats();
+      EXPECT_TRUE(stats.ok()) << stats.status();
+      accepted.push_back(stats.ok() ? stats->accepted_total() : 0);
+    }
+    return accepted;
+  };
+  // The policy has connected to every address first, as a long-lived client's would have: once
+  // every replica has accepted a job through it (round_robin picks only connected replicas, so
+  // until then the spread would measure how soon connections came up, which a sleep guessed).
+  std::vector<int64_t> before;
+  ASSERT_TRUE(WaitUntil(
+      [&] {
+        const absl::StatusOr<v1::Job> job = balanced->SubmitJob(RequestFor(NotchMesh(), 10));
+        EXPECT_TRUE(job.ok()) << job.status();
+        before = accepted_per_replica();
+        return std::ranges::all_of(before, [](int64_t count) { return count > 0; });
+      },
+      kSafetyNet, absl::Milliseconds(20)))
+      << "a replica never got a job: " << absl::StrJoin(before, ", ");
   constexpr int kJobs = 30;
   for (int i = 0; i < kJobs; ++i) {
     const absl::StatusOr<v1::Job> job = balanced->SubmitJob(RequestFor(NotchMesh(), 10));
     ASSERT_TRUE(job.ok()) << job.status();
   }
+  const std::vector<int64_t> after = accepted_per_replica();
   std::vector<int64_t> accepted;
-  for (size_t i = 0; i < 3; ++i) {
-    const absl::StatusOr<v1::ServerStats> stats = Client(i).GetServerStats();
-    ASSERT_TRUE(stats.ok()) << stats.status();
-    accepted.push_back(stats->accepted_total());
-  }
+  for (size_t i = 0; i < 3; ++i) accepted.push_back(after[i] - before[i]);
   std::cout << "round_robin: accepted per replica " << absl::StrJoin(accepted, ", ") << "\n";
   for (int64_t count : accepted) EXPECT_GE(count, kJobs / 3 - 2);
 

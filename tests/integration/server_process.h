@@ -49,8 +49,9 @@ class ServerProcess {
 
   // Everything the server logged so far.
   std::string Log() const;
-  // Whether the log contains `text` within `timeout` (log lines trail the events they report).
-  bool WaitForLog(const std::string& text, absl::Duration timeout = absl::Seconds(60)) const;
+  // Whether the log contains `text` within `timeout` (log lines trail the events they report;
+  // the default only stops a hang).
+  bool WaitForLog(const std::string& text, absl::Duration timeout = absl::Seconds(300)) const;
 
  private:
   ServerProcess() = default;

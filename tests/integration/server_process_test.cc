@@ -9,11 +9,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <memory>
 #include <string>
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "client/health_check.h"
 #include "gtest/gtest.h"
@@ -42,8 +44,11 @@ TEST(ServerProcessTest, TheServerDiesWithATestProcessKilledBySigkill) {
   std::ifstream(record) >> server >> directory;
   ASSERT_GT(server, 0) << "the child test wrote no record";
   std::filesystem::remove(record);
+  const absl::Time died = absl::Now();  // about: the child test has just been reaped
   EXPECT_TRUE(WaitUntil([&] { return !ProcessIsAlive(server); }))
       << "ispq-server " << server << " outlived the test process that started it";
+  std::cout << "ispq-server was gone " << absl::FormatDuration(absl::Now() - died)
+            << " after the test process died\n";
   std::error_code ignored;
   std::filesystem::remove_all(directory, ignored);  // the killed test could not
 }

@@ -1,9 +1,12 @@
 // Graceful shutdown of the real server process on SIGTERM/SIGINT: health turns NOT_SERVING, new
 // jobs are refused, queued jobs end with UNAVAILABLE so that clients can resubmit, running jobs
 // finish (or are interrupted when the grace period runs out) and their watchers receive the
-// result before the process exits with code 0.
+// result before the process exits with code 0. What is asserted is what happened (states,
+// terminations, exit codes, log lines), not how long it took: waits are only bounded to stop a
+// hang (kSafetyNet), since a loaded 2-core machine makes every step slower.
 #include <signal.h>
 
+#include <iostream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -15,6 +18,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/integration/service_test_support.h"
+#include "tests/support/bounded_wait.h"
 
 namespace ispq::testing {
 namespace {
@@ -40,7 +44,7 @@ TEST(ShutdownTest, RunningJobsFinishQueuedJobsAreRefusedAndTheProcessExitsCleanl
                                         return true;
                                       }));
   });
-  ASSERT_TRUE(running.WaitForNotificationWithTimeout(absl::Seconds(120)));
+  ASSERT_TRUE(running.WaitForNotificationWithTimeout(kSafetyNet));
 
   // Two queued jobs with watchers.
   std::vector<std::string> queued;
@@ -60,11 +64,12 @@ TEST(ShutdownTest, RunningJobsFinishQueuedJobsAreRefusedAndTheProcessExitsCleanl
   server->Signal(SIGTERM);
   // Draining: not serving, refusing jobs, still answering about them.
   absl::StatusOr<client::ServingStatus> health;
-  for (int i = 0; i < 500; ++i) {
-    health = client::CheckHealth(client.channel(), "", absl::Seconds(10));
-    if (health.ok() && *health == client::ServingStatus::kNotServing) break;
-    absl::SleepFor(absl::Milliseconds(20));
-  }
+  WaitUntil(
+      [&] {
+        health = client::CheckHealth(client.channel(), "", kSafetyNet);
+        return health.ok() && *health == client::ServingStatus::kNotServing;
+      },
+      kSafetyNet, absl::Milliseconds(20));
   ASSERT_TRUE(health.ok()) << health.status();
   EXPECT_EQ(*health, client::ServingStatus::kNotServing);
   const absl::StatusOr<v1::Job> refused = client.SubmitJob(RequestFor(NotchMesh(), 100));
@@ -90,7 +95,7 @@ TEST(ShutdownTest, RunningJobsFinishQueuedJobsAreRefusedAndTheProcessExitsCleanl
                 HasSubstr("shut down before the job started; submit it again"));
   }
 
-  EXPECT_EQ(server->WaitForExit(absl::Seconds(150)), 0) << server->Log();
+  EXPECT_EQ(server->WaitForExit(kSafetyNet), 0) << server->Log();
   const std::string log = server->Log();
   EXPECT_THAT(log, HasSubstr("event=signal signal=SIGTERM"));
   EXPECT_THAT(log, HasSubstr("event=shutdown_end"));
@@ -120,13 +125,16 @@ TEST(ShutdownTest, TheEndOfTheGracePeriodInterruptsRunningJobsAndDeliversTheirRe
   const absl::Time signalled = absl::Now();
   server->Signal(SIGTERM);
   watcher.join();
-  const std::optional<int> exit_code = server->WaitForExit(absl::Seconds(60));
+  const std::optional<int> exit_code = server->WaitForExit(kSafetyNet);
   const absl::Duration took = absl::Now() - signalled;
   EXPECT_EQ(exit_code, 0) << server->Log();
-  // Running jobs get all but a quarter of the grace period (here 3 s), and the process is gone
-  // soon after the period ends (an interrupted solve stops at its next check).
+  // Running jobs get all but a quarter of the grace period (here 3 s): a lower bound, which load
+  // cannot break. That the period's end interrupted the job (about a minute of solving) rather
+  // than the server waiting for it shows in its INTERRUPTED result below; how soon the process
+  // is gone after that depends on the machine's load, so it is reported, not asserted.
   EXPECT_GE(took, absl::Seconds(2.5));
-  EXPECT_LT(took, absl::Seconds(30));
+  std::cout << "exited " << absl::FormatDuration(took) << " after SIGTERM (grace period 4 s)\n";
+  RecordProperty("exit_after_sigterm_ms", static_cast<int>(absl::ToInt64Milliseconds(took)));
 
   ASSERT_TRUE(watched.status.ok()) << watched.status;
   ASSERT_TRUE(watched.result.has_value());
@@ -139,13 +147,16 @@ TEST(ShutdownTest, TheEndOfTheGracePeriodInterruptsRunningJobsAndDeliversTheirRe
 }
 
 TEST(ShutdownTest, SigintStopsAnIdleServerAtOnce) {
-  std::unique_ptr<ServerProcess> server = StartServerOrFail({});
+  // "At once": without waiting for its grace period, made longer here than the wait below, so
+  // that exiting at all shows it (a 10 s bound on the exit itself was a bet on the load).
+  std::unique_ptr<ServerProcess> server = StartServerOrFail({"--shutdown_grace_seconds=3600"});
   ASSERT_NE(server, nullptr);
   const absl::Time signalled = absl::Now();
   server->Signal(SIGINT);
-  EXPECT_EQ(server->WaitForExit(absl::Seconds(30)), 0) << server->Log();
-  EXPECT_LT(absl::Now() - signalled, absl::Seconds(10));
+  EXPECT_EQ(server->WaitForExit(kSafetyNet), 0) << server->Log();
+  std::cout << "exited " << absl::FormatDuration(absl::Now() - signalled) << " after SIGINT\n";
   EXPECT_THAT(server->Log(), HasSubstr("event=signal signal=SIGINT"));
+  EXPECT_THAT(server->Log(), Not(HasSubstr("event=shutdown_interrupt")));
 }
 
 }  // namespace

@@ -1,4 +1,8 @@
-// Running the product's binaries from tests, as a user or a script would.
+// Running the product's binaries from tests, as a user or a script would: short commands (the
+// CLI against a test's server, psql, openssl) that end on their own. They are not tied to the
+// test's life (a shell's children would not inherit that anyway): a command that outlives a
+// killed test ends when its server, which is tied to it (child_process.h), goes. Long-lived
+// processes go through tests/support/child_process.h.
 #ifndef ISPQ_TESTS_SUPPORT_RUN_COMMAND_H_
 #define ISPQ_TESTS_SUPPORT_RUN_COMMAND_H_
 
