@@ -57,12 +57,24 @@ absl::StatusOr<std::shared_ptr<PostgresConnections>> PostgresConnections::Connec
       new PostgresConnections(options.uri, options.operation_timeout));
   try {
     pool->idle_.push_back(std::make_unique<pqxx::connection>(pool->uri_));
+    pool->BoundOnTheServer(*pool->idle_.back());
   } catch (const std::exception& error) {
     return absl::UnavailableError(
         absl::StrCat("cannot connect to the job store's PostgreSQL database: ", error.what()));
   }
   pool->free_slots_ = options.size > 1 ? options.size - 1 : 0;
   return pool;
+}
+
+void PostgresConnections::BoundOnTheServer(pqxx::connection& connection) const {
+  // A client that stops between two statements of a transaction (a replica frozen, paused or cut
+  // off) keeps its row locks for as long as its connection lives, and every replica's claims skip
+  // those rows (FOR UPDATE SKIP LOCKED): its job would never be claimed again. The server ends
+  // such a session once it has been idle in a transaction longer than any of ours may last, and
+  // stops a statement nobody can wait for any more.
+  const std::string milliseconds = absl::StrCat(absl::ToInt64Milliseconds(operation_timeout_));
+  connection.set_variable("idle_in_transaction_session_timeout", milliseconds);
+  connection.set_variable("statement_timeout", milliseconds);
 }
 
 std::unique_ptr<pqxx::connection> PostgresConnections::Borrow(absl::Time deadline,
@@ -90,7 +102,9 @@ std::unique_ptr<pqxx::connection> PostgresConnections::Borrow(absl::Time deadlin
   // Connecting takes a round trip or more (at most connect_timeout): not under the lock. A
   // failure gives the slot back.
   try {
-    return std::make_unique<pqxx::connection>(uri_);
+    auto connection = std::make_unique<pqxx::connection>(uri_);
+    BoundOnTheServer(*connection);
+    return connection;
   } catch (const std::exception& error) {
     failure = error.what();
     if (const auto held_back = ConnectFailures().Admit()) {

@@ -11,6 +11,10 @@
 // retried (on a new one); an operation that timed out or could not connect is not: the database
 // did not answer, and a second try would only double the wait.
 //
+// The server bounds them too: a session idle in a transaction for longer than the operation
+// timeout is ended (a replica frozen mid-transaction must not keep its row locks, and with them
+// its jobs, forever), and so is a statement that runs longer.
+//
 // Errors never escape as exceptions: an operation that still fails is UNAVAILABLE with the
 // database's message, which callers pass on to clients as "retry later". A write cut by its
 // deadline may or may not have committed; callers write idempotently (server/postgres_job_rows.h).
@@ -80,6 +84,9 @@ class PostgresConnections {
   // (`failure` says which).
   std::unique_ptr<pqxx::connection> Borrow(absl::Time deadline, std::string& failure);
   void Return(std::unique_ptr<pqxx::connection> connection);
+  // Server-side bounds of a new connection's sessions: no transaction idles and no statement
+  // runs longer than the operation timeout.
+  void BoundOnTheServer(pqxx::connection& connection) const;
 
   const std::string given_uri_;
   const std::string uri_;

@@ -1,8 +1,10 @@
-// The connection parameters PostgresConnections adds to a URI (server/postgres_connections.h):
-// a bound on connecting and keepalives, never overriding what the operator wrote.
+// PostgresConnections (server/postgres_connections.h): the connection parameters it adds to a URI
+// (a bound on connecting and keepalives, never overriding what the operator wrote) and the bounds
+// it sets on the server's side of its sessions.
 #include "server/postgres_connections.h"
 
 #include "gtest/gtest.h"
+#include "tests/support/postgres_instance.h"
 
 namespace ispq::server {
 namespace {
@@ -32,6 +34,33 @@ TEST(WithConnectionDefaultsTest, KeepsWhatTheUriSetsItself) {
       << uri;
   EXPECT_EQ(uri.find("connect_timeout=5"), std::string::npos) << uri;
   EXPECT_EQ(uri.find("keepalives_idle=10"), std::string::npos) << uri;
+}
+
+}  // namespace
+}  // namespace ispq::server
+
+namespace ispq::server {
+namespace {
+
+// The server's side of the bounds: a session of ours that stops mid-transaction (its replica
+// frozen) is ended by the server after the operation timeout, so its row locks go with it.
+TEST(PostgresConnectionsTest, SessionsAreBoundedOnTheServerToo) {
+  absl::StatusOr<std::unique_ptr<testing::PostgresInstance>> postgres =
+      testing::PostgresInstance::Start();
+  ASSERT_TRUE(postgres.ok()) << postgres.status();
+  absl::StatusOr<std::shared_ptr<PostgresConnections>> connections = PostgresConnections::Connect(
+      {.uri = (*postgres)->uri(), .size = 2, .operation_timeout = absl::Milliseconds(1500)});
+  ASSERT_TRUE(connections.ok()) << connections.status();
+  std::string idle, statement;
+  ASSERT_TRUE((*connections)
+                  ->Run([&](pqxx::connection& connection) {
+                    pqxx::nontransaction work(connection);
+                    idle = work.exec("SHOW idle_in_transaction_session_timeout")[0][0].c_str();
+                    statement = work.exec("SHOW statement_timeout")[0][0].c_str();
+                  })
+                  .ok());
+  EXPECT_EQ(idle, "1500ms");
+  EXPECT_EQ(statement, "1500ms");
 }
 
 }  // namespace
