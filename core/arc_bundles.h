@@ -1,4 +1,5 @@
-// Arc bundles: arcs forced to equal length by consistency alone (paper section 4.4).
+// Arc bundles: arcs forced to equal length by consistency alone (paper section 4.4;
+// core/README.md, section Bundles and subproblems).
 //
 // When both sides of a patch along one axis consist of a single arc, the consistency row says
 // q_a = q_b. Merging such arcs transitively gives bundles; the quantizer then works with one

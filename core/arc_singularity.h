@@ -1,4 +1,4 @@
-// Which arcs are singular, from the blocks around them (shared/tmesh-format.md section 4).
+// Which arcs are singular, from the blocks around them (proto/README.md, section Arcs).
 //
 // Around an interior arc the blocks fill a full turn: each block contributes a quarter turn if
 // the arc is one of its edges and a half turn if the arc lies inside one of its faces, and the

@@ -1,7 +1,8 @@
-// Block extents and the non-negativity rows C of the paper (eq. 1d, block form): a block's
-// extent along an axis is the sum of q over one of its four edges parallel to that axis. Under
-// consistency all four agree; like the reference, the rows use the edge on the positive side of
-// the two other axes, and the hex count uses the edge on their negative side (format section 7).
+// Block extents and the non-negativity rows C of the paper (eq. 1d, block form): a block's extent
+// along an axis is the sum of q over one of its four edges parallel to that axis. Under consistency
+// all four agree; like the reference, the rows use the edge on the positive side of the two other
+// axes, and the hex count uses the edge on their negative side (proto/README.md, sections
+// Non-negativity and Objective and hex count).
 #ifndef ISPQ_CORE_BLOCK_EXTENTS_H_
 #define ISPQ_CORE_BLOCK_EXTENTS_H_
 

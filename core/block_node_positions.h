@@ -1,4 +1,5 @@
-// Integer positions of the nodes on every block's boundary (shared/separation.md section 1.4).
+// Integer positions of the nodes on every block's boundary (core/README.md, section Integer
+// positions).
 //
 // For a consistent integer quantization q, every node n on the boundary of block b has a
 // well-defined position P_b(n) in b's frame, with b's (-,-,-) corner at the origin: the sum of

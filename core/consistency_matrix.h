@@ -1,6 +1,6 @@
-// The consistency matrix A of the quantization problem (paper eq. 1b): one row per patch and
-// in-plane axis, the sum of q over the side running along +axis minus the sum over the side
-// running along -axis. A consistent q has A q = 0.
+// The consistency matrix A of the quantization problem (paper eq. 1b; proto/README.md, section
+// Consistency): one row per patch and in-plane axis, the sum of q over the side running along +axis
+// minus the sum over the side running along -axis. A consistent q has A q = 0.
 #ifndef ISPQ_CORE_CONSISTENCY_MATRIX_H_
 #define ISPQ_CORE_CONSISTENCY_MATRIX_H_
 

@@ -1,7 +1,7 @@
-// The critical entities of a T-mesh, derived from its critical flags (shared/separation.md
-// section 2.2, shared/tmesh-format.md section 8): every critical node; every critical link, a
-// maximal chain of critical arcs between critical nodes (or a cycle of them); every critical
-// region, a maximal set of critical patches connected across non-critical arcs.
+// The critical entities of a T-mesh, derived from its critical flags (proto/README.md, section
+// Critical entities): every critical node; every critical link, a maximal chain of critical arcs
+// between critical nodes (or a cycle of them); every critical region, a maximal set of critical
+// patches connected across non-critical arcs.
 //
 // The separation search starts from these entities and the simple rows are built over them, so
 // they are never taken from a request: the loader derives them and rejects a request whose list

@@ -1,5 +1,6 @@
 // What surrounds a halfarc: the halfpatches and blocks around it in radial order, and its
-// neighbours within a halfpatch's boundary cycle (shared/separation.md sections 1.1 and 1.5).
+// neighbours within a halfpatch's boundary cycle (proto/README.md, section Ids, halfarcs and
+// halfpatches).
 //
 // The separation search iterates these in a fixed order because the order decides ties and the
 // start block of a link search. TMesh stores the radial order for halfarc 2a only; for 2a + 1 it

@@ -1,5 +1,6 @@
 // Integer points and axis-aligned boxes in a block or search frame, with the closed-overlap test
-// the separation search is built on (shared/separation.md sections 1.4, 3.5-3.7).
+// the separation search is built on (core/README.md, sections Integer positions, The fan, Block
+// admissibility and the two block-box modes, and Violation tests).
 //
 // Positions are sums of integer arc lengths, so everything is exact int64 arithmetic. A box whose
 // upper bound lies below its lower bound on some axis is "inverted"; like the reference, an

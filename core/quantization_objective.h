@@ -1,6 +1,7 @@
-// The objective the quantization minimises (eq. 1 of the paper): d(q, s*l), the sum over arcs of
-// (q_a - s * l_a)^2. One definition, used wherever a q is scored against its targets: the
-// quantizer's result and the CLI's `validate`, so that both print the same number for one q.
+// The objective the quantization minimises (eq. 1 of the paper; proto/README.md, section Objective
+// and hex count): d(q, s*l), the sum over arcs of (q_a - s * l_a)^2. One definition, used wherever
+// a q is scored against its targets: the quantizer's result and the CLI's `validate`, so that both
+// print the same number for one q.
 #ifndef ISPQ_CORE_QUANTIZATION_OBJECTIVE_H_
 #define ISPQ_CORE_QUANTIZATION_OBJECTIVE_H_
 

@@ -1,7 +1,8 @@
-// The validator of shared/tmesh-format.md section 7: given any T-mesh and any integer q, reports
-// every consistency violation, every negative block extent, every violated simple row and the
-// separation violations found by the search, each with the offending element ids. Every result
-// the product returns passes it, and tests call it on every result they produce.
+// The validator of proto/README.md, section Valid quantizations: given any T-mesh and any integer
+// q, reports every consistency violation, every negative block extent, every violated simple row
+// and the separation violations found by the searches, each with the offending element ids. Every
+// result the product returns goes through it (its verdict is the result's `valid`), and tests
+// call it on every result they produce.
 #ifndef ISPQ_CORE_QUANTIZATION_VALIDATOR_H_
 #define ISPQ_CORE_QUANTIZATION_VALIDATOR_H_
 

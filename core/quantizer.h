@@ -1,11 +1,11 @@
-// Integer-Sheet-Pump quantization (Brueckler & Campen 2024, the paper in shared/paper): integer
-// arc lengths q that are consistent, give no block a negative extent and are separating,
+// Integer-Sheet-Pump quantization (Brueckler & Campen 2024; core/README.md, section Pipeline):
+// integer arc lengths q that are consistent, give no block a negative extent and are separating,
 // minimizing d(q) = sum_a (q_a - s * l_a)^2 by a greedy sequence of small sheet LPs
 // (core/isp/). In exact mode the ISP result then warm-starts a MILP with the lazy separation loop
 // until optimality is proven or the time limit passes (core/exact/). Every valid result carries
 // a lower bound and its gap when asked (by default for meshes up to kAutoLowerBoundMaxArcs arcs;
 // always in exact mode), certified for the separation rows the run found
-// (core/exact/lower_bound.h); every result passes the validator before it is returned.
+// (core/exact/lower_bound.h); every result goes through the validator before it is returned.
 //
 // This is the entry point used in-process by the CLI and by every server worker. One call runs
 // on the calling thread only.

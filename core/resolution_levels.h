@@ -1,5 +1,6 @@
-// The resolution levels of shared/tmesh-format.md section 9: a scaling factor s per percentage p
-// such that roughly p percent of the arcs get a scaled target length s * l below 1/2.
+// The resolution levels (proto/README.md, section Resolution levels and scaling): a scaling factor
+// s per percentage p such that roughly p percent of the arcs get a scaled target length s * l
+// below 1/2.
 #ifndef ISPQ_CORE_RESOLUTION_LEVELS_H_
 #define ISPQ_CORE_RESOLUTION_LEVELS_H_
 

@@ -1,8 +1,8 @@
 // The scaling factor s of a quantization (the target length of arc a is s * l_a), as a caller
-// chooses it: s itself, one of the format's resolution levels (shared/tmesh-format.md section 9),
-// or the hex count the continuous blocks should have. Resolving the choice against a mesh is
-// domain logic that the CLI, the service and the validator share; the API's Scaling message only
-// translates into a ScalingChoice (core/proto/quantization_proto.h).
+// chooses it: s itself, one of the resolution levels, or the hex count the continuous blocks
+// should have (proto/README.md, section Resolution levels and scaling). Resolving the choice
+// against a mesh is domain logic that the CLI, the service and the validator share; the API's
+// Scaling message only translates into a ScalingChoice (core/proto/quantization_proto.h).
 #ifndef ISPQ_CORE_SCALING_H_
 #define ISPQ_CORE_SCALING_H_
 

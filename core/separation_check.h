@@ -1,14 +1,14 @@
 // The product's verdict on separation: which searches a q must pass to be called separating.
 //
-// The lazy separation search is a heuristic (shared/separation.md section 3.11): it settles every
-// node once per search, so which violations it sees depends on which walk reaches a node first.
-// The paper's search (sorted block boxes) and the reference implementation's (unsorted block
-// boxes, section 3.6) therefore each find violations the other misses: the first around
-// sign-flipping transitions, the second where the sorted search's larger fan settles a node in a
-// different chart around a singular arc (the `hand` model of MC3D's test resources, issue 13).
-// Every row either finds is a sufficient separation condition, so the product requires both to
-// come back empty: a result it certifies is then separating by the paper's search and by
-// upstream's own check.
+// The lazy separation search is a heuristic (core/README.md, section Walks and their order): it
+// settles every node once per search, so which violations it sees depends on which walk reaches a
+// node first. The paper's search (sorted block boxes) and the reference implementation's (unsorted
+// block boxes; core/README.md, section Block admissibility and the two block-box modes) therefore
+// each find violations the other misses: the first around sign-flipping transitions, the second
+// where the sorted search's larger fan settles a node in a different chart around a singular arc
+// (the `hand` model of MC3D's test resources, issue 13). Every row either finds is a sufficient
+// separation condition, so the product requires both to come back empty: a result it certifies is
+// then separating by the paper's search and by upstream's own check.
 #ifndef ISPQ_CORE_SEPARATION_CHECK_H_
 #define ISPQ_CORE_SEPARATION_CHECK_H_
 

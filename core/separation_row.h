@@ -1,5 +1,6 @@
 // A linear inequality over arc lengths, sum_i coef_i * q_{arc_i} >= rhs: the form of every
-// separation constraint (paper eq. 1c) and of the simple rows (links, regions, block extents).
+// separation constraint (paper eq. 1c) and of the simple rows (links, regions, block extents);
+// core/README.md, section The problem.
 #ifndef ISPQ_CORE_SEPARATION_ROW_H_
 #define ISPQ_CORE_SEPARATION_ROW_H_
 

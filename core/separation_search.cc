@@ -131,14 +131,15 @@ class SeparationSearch::Impl {
 
  private:
   // What depends on q only: the positions of block b's slots and the boxes of the sides it owns
-  // (section 6.3), computed the first time a fan reaches b on this q.
+  // (core/README.md, section Tables and cost), computed the first time a fan reaches b on this q.
   void EnsureGeometry(BlockId b) {
     if (!geometry_ready_.Contains(b)) ComputeGeometry(b);
   }
   void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
 
-  // One search (separation.md section 3.4); true and `violation` filled on the first hit.
+  // One search (core/README.md, section Walks and their order); true and `violation` filled on the
+  // first hit.
   bool Search(int config, std::span<const int64_t> q, SeparationViolation& violation);
   void Push(const Walk& walk);
 
@@ -158,16 +159,17 @@ class SeparationSearch::Impl {
 
   const TMesh& mesh_;
   const SeparationSearchOptions options_;
-  // Mesh tables (section 6.2), shared and built as the searches read them.
+  // Mesh tables (core/README.md, section Tables and cost), shared and built as the searches read
+  // them.
   const std::shared_ptr<SeparationSearchTables> tables_;
   const BlockNodeSlots& slots_;
   const SeparationStartConfigurations& configs_;
 
   // Buffers, possibly shared with another search of the mesh; the references name their parts.
   const std::shared_ptr<SeparationSearchScratch> scratch_;
-  // Geometry of geometry_q_, the current call's q (section 6.3), valid for the blocks in
-  // geometry_ready_ (kept from the last call, of either search sharing the buffers, if it had the
-  // same q).
+  // Geometry of geometry_q_, the current call's q (core/README.md, section Integer positions),
+  // valid for the blocks in geometry_ready_ (kept from the last call, of either search sharing the
+  // buffers, if it had the same q).
   IntVec3* const positions_;  // per slot
   IntBox* const side_boxes_;  // per owned halfpatch side, in the owner's frame
   StampedSet& geometry_ready_;
@@ -368,8 +370,8 @@ IntBox SeparationSearch::Impl::PatchBox(const Walk& walk, HalfpatchId side, Slot
   return {Add(walk.x, local.lo), Add(walk.x, local.hi)};
 }
 
-// Section 3.5: breadth-first over the blocks around the node, crossing a patch only if its
-// rectangle touches the start box; each block keeps the rotation of its first route.
+// core/README.md, section The fan: breadth-first over the blocks around the node, crossing a patch
+// only if its rectangle touches the start box; each block keeps the rotation of its first route.
 void SeparationSearch::Impl::BuildFan(const Walk& walk, bool at_start_box) {
   in_fan_.Clear();
   fan_order_.clear();
@@ -419,7 +421,7 @@ void SeparationSearch::Impl::BuildCandidates(const Walk& walk) {
   }
 }
 
-// Section 3.7, tests (a) node, (b) arc, (c) patch, in that order.
+// core/README.md, section Violation tests: (a) node, (b) arc, (c) patch, in that order.
 bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_box,
                                                std::span<const int64_t> q, DirSet& dirs,
                                                SeparationTargetKind& kind, int32_t& target) {
@@ -469,10 +471,10 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
   return false;
 }
 
-// Section 3.6: the block, placed in the reference frame with the walk's node at x, touches the
-// start box. The reference forms the interval from the (-,-,-) and (+,+,+) corners without
-// sorting and rejects it when inverted. The answer depends on the block and the node only, so it
-// is computed once per block and pop.
+// core/README.md, section Block admissibility and the two block-box modes: the block, placed in the
+// reference frame with the walk's node at x, touches the start box. The reference forms the
+// interval from the (-,-,-) and (+,+,+) corners without sorting and rejects it when inverted. The
+// answer depends on the block and the node only, so it is computed once per block and pop.
 bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, BlockId block) {
   if (fan_admissible_[block] >= 0) return fan_admissible_[block] != 0;
   // Without negative arcs every boundary node lies in its block's sorted box, so that box
@@ -494,8 +496,8 @@ bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, Blo
   return admissible;
 }
 
-// Section 3.9: at most one successor per candidate halfarc, through the first block (in radial
-// order) that is admissible and gives an allowed step.
+// core/README.md, section Expansion: at most one successor per candidate halfarc, through the first
+// block (in radial order) that is admissible and gives an allowed step.
 void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
                                     std::span<const int64_t> q) {
   const Walk walk = arena_[walk_index];
@@ -532,9 +534,10 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
       next.rotation = fan_rotation_[entry.block];
       next.step_dir = dir;
       if (next.branched) {
-        // After branching M is exactly the monotone direction d. Every violation test needs
-        // zero displacement along d's axis (section 3.7), steps against d are never taken, and
-        // steps along d only move back through negative arcs, each at most once.
+        // After branching M is exactly the monotone direction d. Every violation test needs zero
+        // displacement along d's axis (core/README.md, section Violation tests), steps against d
+        // are never taken, and steps along d only move back through negative arcs, each at most
+        // once.
         const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
         const int64_t ahead =
             IsNegative(monotone) ? -next.x[AxisOf(monotone)] : next.x[AxisOf(monotone)];
@@ -546,9 +549,9 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
   }
 }
 
-// Section 3.8: one-way axes contribute their arcs with +1 to both rows; an axis walked both ways
-// contributes its signed net displacement to the default row, the side longer in target length
-// positive (ties: the negative direction's arcs positive).
+// core/README.md, section Rows of a violation: one-way axes contribute their arcs with +1 to both
+// rows; an axis walked both ways contributes its signed net displacement to the default row, the
+// side longer in target length positive (ties: the negative direction's arcs positive).
 void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirSet dirs,
                                             SeparationTargetKind kind, int32_t target,
                                             SeparationViolation& violation) {

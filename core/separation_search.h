@@ -1,8 +1,8 @@
-// The lazy separation search for fixed singularities (shared/separation.md; Brueckler, Bommes,
-// Campen 2022, Alg. 1): from every critical node and critical link, a Dijkstra-like search for
-// weakly monotone zero-length paths to another critical entity. Each hit yields a separation
-// row in a default form (mixed axes as signed differences) and a failsafe form (non-negative
-// coefficients only, paper App. B).
+// The lazy separation search for fixed singularities (core/README.md, section The lazy separation
+// search; Brueckler, Bommes, Campen 2022, Alg. 1): from every critical node and critical link, a
+// Dijkstra-like search for weakly monotone zero-length paths to another critical entity. Each hit
+// yields a separation row in a default form (mixed axes as signed differences) and a failsafe form
+// (non-negative coefficients only, paper App. B).
 //
 // The search is integer arithmetic on flat arrays. One instance keeps the tables that depend on
 // the mesh alone (core/separation_search_tables.h, built as the searches read them) and its
@@ -11,9 +11,9 @@
 // its fans reach.
 //
 // Why one file of ~600 lines: the walk, its heap order, the fan of candidate moves and the
-// admissibility test share one set of invariants (separation.md sections 3-4) and one scratch
-// state; the parts that stand alone are already apart (mesh tables, start configurations,
-// neighbourhoods of halfarcs, block node positions, integer boxes).
+// admissibility test share one set of invariants (core/README.md, section The lazy separation
+// search) and one scratch state; the parts that stand alone are already apart (mesh tables, start
+// configurations, neighbourhoods of halfarcs, block node positions, integer boxes).
 #ifndef ISPQ_CORE_SEPARATION_SEARCH_H_
 #define ISPQ_CORE_SEPARATION_SEARCH_H_
 
@@ -28,9 +28,10 @@
 
 namespace ispq {
 
-// How a block's box is formed in the start frame (separation.md section 3.6). kSorted is the
-// correct behaviour; kReferenceUnsorted reproduces the reference implementation, which rejects
-// blocks reached through a sign-flipping rotation, for comparisons with upstream results.
+// How a block's box is formed in the start frame (core/README.md, section Block admissibility and
+// the two block-box modes). kSorted is the correct behaviour; kReferenceUnsorted reproduces the
+// reference implementation, which rejects blocks reached through a sign-flipping rotation, for
+// comparisons with upstream results.
 enum class BlockBoxMode : uint8_t { kSorted, kReferenceUnsorted };
 
 struct SeparationSearchOptions {

@@ -1,6 +1,6 @@
-// The mesh tables of the separation search (shared/separation.md section 6.2): everything it
-// reads that depends on the mesh alone, shared by the searches of one mesh
-// (core/separation_check.h runs two, one after the other on one thread).
+// The mesh tables of the separation search (core/README.md, section Tables and cost): everything it
+// reads that depends on the mesh alone, shared by the searches of one mesh (core/separation_check.h
+// runs two, one after the other on one thread).
 //
 // The slots and the start configurations are built with the tables; every per-element list is
 // built the first time a search asks for it (core/on_demand_lists.h), from one pass over each

@@ -76,7 +76,7 @@ SeparationStartConfigurations::SeparationStartConfigurations(const TMesh& mesh) 
         AddLinkConfigurations(mesh, e, in_link);
         break;
       case EntityDim::kRegion:
-        break;  // regions never start a search (separation.md section 2.3)
+        break;  // regions never start a search (core/README.md, section What it looks for)
     }
   }
 }

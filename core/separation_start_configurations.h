@@ -1,9 +1,9 @@
-// The start configurations of the separation search (shared/separation.md section 3.2): one
-// search per outgoing halfarc of every critical node, and one per halfpatch around the first
+// The start configurations of the separation search (core/README.md, section Start configurations):
+// one search per outgoing halfarc of every critical node, and one per halfpatch around the first
 // halfarc of every critical link. Each fixes the start node, the start block whose frame is the
 // search's reference frame, the halfarcs through which the search may leave the start entity
-// (BranchOffs) and, for links, the arcs whose block choice is checked before branching
-// (PreArcs). All of this depends on topology only, so it is built once per mesh.
+// (BranchOffs) and, for links, the arcs whose block choice is checked before branching (PreArcs).
+// All of this depends on topology only, so it is built once per mesh.
 #ifndef ISPQ_CORE_SEPARATION_START_CONFIGURATIONS_H_
 #define ISPQ_CORE_SEPARATION_START_CONFIGURATIONS_H_
 

@@ -1,6 +1,7 @@
-// The simple rows of the separation problem (shared/separation.md section 2.5): every critical
-// link has positive length, no critical region collapses completely, every block has
-// non-negative extent along each axis, and optionally every arc is >= a lower bound.
+// The simple rows of the separation problem (proto/README.md, sections Non-negativity and
+// Separation): every critical link has positive length, no critical region collapses completely,
+// every block has non-negative extent along each axis, and optionally every arc is >= a lower
+// bound.
 #ifndef ISPQ_CORE_SIMPLE_CONSTRAINTS_H_
 #define ISPQ_CORE_SIMPLE_CONSTRAINTS_H_
 

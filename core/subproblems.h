@@ -1,7 +1,8 @@
-// Independent subproblems (paper section 4.4): connected components of the bundles under the
-// model's own constraints, the consistency rows and the block-extent rows. A sheet rooted in one
-// component never changes another, so each component gets its own small LP. Separation rows
-// found later can join components; core/isp/subproblem_set.h merges them then.
+// Independent subproblems (paper section 4.4; core/README.md, section Bundles and subproblems):
+// connected components of the bundles under the model's own constraints, the consistency rows and
+// the block-extent rows. A sheet rooted in one component never changes another, so each component
+// gets its own small LP. Separation rows found later can join components; core/isp/subproblem_set.h
+// merges them then.
 #ifndef ISPQ_CORE_SUBPROBLEMS_H_
 #define ISPQ_CORE_SUBPROBLEMS_H_
 

@@ -1,10 +1,10 @@
 // The validated, immutable T-mesh that every algorithm of ispq reads.
 //
 // A TMesh is a block decomposition (blocks, patches, arcs, nodes) with a continuous target length
-// per arc, exactly the content of a `*.tmesh.json` file (shared/tmesh-format.md) after
-// validation. Connectivity lives in flat arrays indexed by integer ids, with implicit twins:
-// halfarc h = 2a + o (twin h ^ 1), halfpatch hp = 2p + k (twin hp ^ 1). All adjacency the
-// quantizer and the separation search need is precomputed at load time.
+// per arc: what the algorithms read of a `*.tmesh.json` file (proto/README.md), after validation.
+// Connectivity lives in flat arrays indexed by integer ids, with implicit twins: halfarc h = 2a + o
+// (twin h ^ 1), halfpatch hp = 2p + k (twin hp ^ 1). All adjacency the quantizer and the separation
+// search need is precomputed at load time.
 //
 // TMeshBuilder (core/tmesh_builder.h) is the only code that writes one, after checking every rule;
 // so a TMesh that exists is valid. From an ispq.v1 message, use TMeshFromProto
@@ -175,7 +175,7 @@ class TMesh {
   std::span<const HalfarcId> entity_halfarcs(EntityId e) const { return entity_halfarcs_[e]; }
   std::span<const PatchId> entity_patches(EntityId e) const { return entity_patches_[e]; }
 
-  // ---- Resolution levels (format section 9), in file order ----
+  // ---- Resolution levels (proto/README.md, section Resolution levels and scaling) ----
   std::span<const Level> levels() const { return levels_; }
 
  private:

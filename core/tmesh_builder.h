@@ -1,8 +1,8 @@
-// Builds the immutable TMesh (core/tmesh.h) from plain element data (core/tmesh_input.h),
-// checking every rule of shared/tmesh-format.md the algorithms rely on and deriving the
-// adjacency the model precomputes. It is the only code that writes a TMesh, so a TMesh that
-// exists has passed every check; it knows no file format (core/proto/tmesh_from_proto.h decodes
-// the ispq.v1 message into its input).
+// Builds the immutable TMesh (core/tmesh.h) from plain element data (core/tmesh_input.h), checking
+// the rules of proto/README.md (section What the loader checks, steps 2 to 8) and deriving the
+// adjacency the model precomputes. It is the only code that writes a TMesh, so a TMesh that exists
+// has passed every check; it knows no file format (core/proto/tmesh_from_proto.h decodes the
+// ispq.v1 message into its input).
 //
 // The build runs in a fixed order, each step reading only what earlier steps checked:
 //

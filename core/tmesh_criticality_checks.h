@@ -1,8 +1,8 @@
-// Rules about what is critical (shared/tmesh-format.md sections 4 and 8, shared/separation.md
-// section 2): an arc's boundary flag and whether its singular mark is non-zero follow from the
-// blocks around it (core/arc_singularity.h); a node's critical flag follows from the marks of its
-// arcs and patches; and a list of critical entities that comes with the mesh must be the one the
-// mesh makes (core/critical_entities.h).
+// Rules about what is critical (proto/README.md, sections Arcs, Criticality and Critical entities):
+// an arc's boundary flag and whether its singular mark is non-zero follow from the blocks around it
+// (core/arc_singularity.h); a node's critical flag follows from the marks of its arcs and patches;
+// and a list of critical entities that comes with the mesh must be the one the mesh makes
+// (core/critical_entities.h).
 //
 // The separation certificate rests on these flags, so they are recomputed and compared instead of
 // trusted: a mismatch means the mesh was built by different rules. TMeshBuilder runs them after
@@ -22,7 +22,7 @@ namespace ispq {
 
 absl::Status CheckArcSingularity(const TMesh& mesh);
 
-// The critical-node rules of shared/separation.md section 2.1; which of them apply depends on
+// The critical-node rules (proto/README.md, section Criticality); which of them apply depends on
 // the kinds of feature markers the source had.
 absl::Status CheckCriticalNodes(const TMesh& mesh, const FeaturesPresent& present);
 

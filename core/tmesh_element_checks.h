@@ -1,7 +1,8 @@
-// The rules of shared/tmesh-format.md that one node, arc, block or resolution level satisfies on
-// its own, and the element counts. Patches, with many more rules, have core/tmesh_patch_checks.h;
-// how elements fit together is checked once all are known (core/tmesh_incidence_checks.h,
-// core/tmesh_frame_checks.h, core/tmesh_criticality_checks.h).
+// The rules of proto/README.md (sections Top-level fields to Resolution levels and scaling) that
+// one node, arc, block or resolution level satisfies on its own, and the element counts. Patches,
+// with many more rules, have core/tmesh_patch_checks.h; how elements fit together is checked once
+// all are known (core/tmesh_incidence_checks.h, core/tmesh_frame_checks.h,
+// core/tmesh_criticality_checks.h).
 //
 // TMeshBuilder runs these as each element is added, so the first broken element in id order is
 // the one reported. Failures are INVALID_ARGUMENT naming the element ("arc 6: length nan is not

@@ -1,8 +1,8 @@
-// Rules about directions and coordinates in the blocks' (u, v, w) frames (shared/tmesh-format.md
-// sections 5 and 6): every patch lies in a face of each of its blocks, its sides run along their
-// stated directions in the reference block, and its transition maps one block's frame onto the
-// other's; every block edge is a chain of arcs from corner to corner along its positive axis; and
-// the nodes' block coordinates differ along each arc by exactly its length.
+// Rules about directions and coordinates in the blocks' (u, v, w) frames (proto/README.md, sections
+// Block frames, Transitions, Patches and Blocks): every patch lies in a face of each of its blocks,
+// its sides run along their stated directions in the reference block, and its transition maps one
+// block's frame onto the other's; every block edge is a chain of arcs from corner to corner along
+// its positive axis; and the nodes' block coordinates differ along each arc by exactly its length.
 //
 // TMeshBuilder runs these once the incidences hold (core/tmesh_incidence_checks.h), so that
 // every arc of a patch can be looked up in its blocks. Failures are INVALID_ARGUMENT naming the

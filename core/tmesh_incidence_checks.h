@@ -1,7 +1,7 @@
-// Incidence rules of shared/tmesh-format.md: the lists by which elements name each other agree.
-// A node lists exactly the halfarcs that start at it; an arc lists exactly the halfpatches whose
-// cycles contain it; blocks, their faces and their patches name each other consistently; and the
-// blocks around an arc are the blocks that list it.
+// Incidence rules (proto/README.md, sections Nodes, Arcs and Blocks): the lists by which elements
+// name each other agree. A node lists exactly the halfarcs that start at it; an arc lists exactly
+// the halfpatches whose cycles contain it; blocks, their faces and their patches name each other
+// consistently; and the blocks around an arc are the blocks that list it.
 //
 // TMeshBuilder runs these once every element is in, in this order; CheckArcBlocks reads the
 // arc -> blocks adjacency the builder derives before calling it. Failures are INVALID_ARGUMENT

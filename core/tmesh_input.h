@@ -1,8 +1,8 @@
-// The plain data a TMesh is built from (core/tmesh_builder.h), one struct per element of
-// shared/tmesh-format.md, already decoded: directions are Dir, corners and edges are indexed by
-// their codes (core/direction.h), transitions are Rotations. What the model does not keep (node
-// positions, transition translations, the arcs and nodes inside block faces, the file's
-// statistics) has no field here; whoever decodes a file checks it.
+// The plain data a TMesh is built from (core/tmesh_builder.h), one struct per element of the format
+// (proto/README.md), already decoded: directions are Dir, corners and edges are indexed by their
+// codes (core/direction.h), transitions are Rotations. What the model does not keep (node
+// positions, transition translations, the arcs and nodes inside block faces, the file's statistics)
+// has no field here; whoever decodes a file checks it.
 //
 // Lists are views into the caller's storage (a message's repeated fields, for instance) that
 // only need to live through the Add call that takes them. What a struct cannot say is the

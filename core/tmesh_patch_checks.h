@@ -1,6 +1,6 @@
-// The rules of shared/tmesh-format.md that one patch satisfies, given the nodes and arcs before
-// it: its blocks and flags agree, a boundary patch has the identity transition, its cycle is a
-// closed chain of at least 4 distinct arcs, its reference block is its first block, and its four
+// The rules of proto/README.md, section Patches, that one patch satisfies, given the nodes and arcs
+// before it: its blocks and flags agree, a boundary patch has the identity transition, its cycle is
+// a closed chain of at least 4 distinct arcs, its reference block is its first block, and its four
 // sides are contiguous runs of the cycle in two opposite pairs whose continuous lengths match.
 //
 // TMeshBuilder runs this as each patch is added; the cycle's halfarc ids must be in range (the

@@ -1,8 +1,8 @@
 // Exact mode: the quantization problem (paper eq. 1) solved to proven optimality by a MILP
-// (core/exact/quantization_milp.h) in the lazy separation loop of BBC22 (paper section 3):
-// solve, check the solution with the product's separation search, add the rows of what it finds
-// (default form; the failsafe forms of App. B if the default rows admit no q at all), solve
-// again, until a solve's optimum passes the search.
+// (core/exact/quantization_milp.h) in the lazy separation loop of BBC22 (paper section 3): solve,
+// check the solution with the product's separation search, add the rows of what it finds (default
+// form; the failsafe forms of App. B if the default rows admit no q at all), solve again, until a
+// solve's optimum passes the search (core/README.md, section Exact mode).
 //
 // The loop starts from a valid q (the ISP result): it windows the model and is CBC's first
 // incumbent, so the run is anytime from its first second. Every incumbent the solver finds is

@@ -1,10 +1,10 @@
-// The judge of the exact mode's candidate quantizations (paper section 3, step 3, applied to
-// every incumbent of the MILP, not only to its optimum): a candidate that satisfies the
-// consistency and simple rows goes through the product's separation check
-// (core/separation_check.h). If the check finds nothing the candidate is valid and, if it beats
-// the best valid q so far, becomes the best; otherwise the rows of the violations it found join
-// the constraints, so that the next MILP excludes it. Candidates seen before are not checked
-// again (CBC reports some solutions twice).
+// The judge of the exact mode's candidate quantizations (paper section 3, step 3, applied to every
+// incumbent of the MILP, not only to its optimum): a candidate that satisfies the consistency and
+// simple rows goes through the product's separation check (core/separation_check.h). If the check
+// finds nothing the candidate is valid and, if it beats the best valid q so far, becomes the best;
+// otherwise the rows of the violations it found join the constraints, so that the next MILP
+// excludes it. Candidates seen before are not checked again (CBC reports some solutions twice). See
+// core/README.md, section Exact mode.
 #ifndef ISPQ_CORE_EXACT_INCUMBENT_CHECKER_H_
 #define ISPQ_CORE_EXACT_INCUMBENT_CHECKER_H_
 

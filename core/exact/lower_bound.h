@@ -1,6 +1,7 @@
 // The lower bound every result carries (QuantizeResult::lower_bound): the LP relaxation of the
 // exact model (core/exact/quantization_milp.h) for the problem with the separation rows a run
-// found, windowed by the result itself (every optimum lies within the windows).
+// found, windowed by the result itself (every optimum lies within the windows; core/README.md,
+// section The lower bound).
 //
 // What it certifies: no integer q that is consistent, keeps every block extent >= 0, satisfies
 // the simple rows (links, regions; q_a >= 0 if asked) and every given separation row has

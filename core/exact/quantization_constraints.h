@@ -1,10 +1,10 @@
 // The constraints of the quantization problem (paper eq. 1b-1d) over arc bundles, as the exact
-// mode and the lower bound state them:
+// mode and the lower bound state them (core/README.md, section Exact mode):
 //   - the consistency rows that bundling leaves (equalities, deduplicated);
-//   - the simple rows of shared/separation.md section 2.5: block extents >= 0 (C), critical
-//     links of positive length, critical regions not collapsed, and q_a >= 0 per arc if asked.
-//     Every valid q satisfies them, so they are part of the problem from the start, as in the
-//     reference's IQP variant;
+//   - the simple rows (proto/README.md, sections Non-negativity and Separation): block extents >= 0
+//     (C), critical links of positive length, critical regions not collapsed, and q_a >= 0 per arc
+//     if asked. Every valid q satisfies them, so they are part of the problem from the start, as in
+//     the reference's IQP variant;
 //   - the separation rows found so far (eq. 1c), each in its default form with its failsafe
 //     twin B+ (paper App. B) kept to stand in for it.
 // Rows read sum coef * x_b >= rhs (inequalities) or sum coef * x_b = 0 (equalities).

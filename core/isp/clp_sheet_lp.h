@@ -1,4 +1,5 @@
-// SheetLp (core/sheet_lp.h) on COIN-OR CLP, the open-source simplex solver the paper uses.
+// SheetLp (core/isp/sheet_lp.h) on COIN-OR CLP, the open-source simplex solver the paper uses
+// (core/README.md, section LP back ends).
 //
 // One ClpSimplex object lives as long as the SheetLp: edits go straight into it and every
 // Solve() restarts the simplex from the previous basis (and, when the row count is unchanged,

@@ -1,4 +1,5 @@
-// The roots of the greedy descent (paper Alg. 1) and when to pump them again.
+// The roots of the greedy descent (paper Alg. 1) and when to pump them again (core/README.md,
+// section The greedy queue and passes).
 //
 // Roots are bundles, popped furthest from their targets first (ties: the smaller id). Every
 // entry carries a stamp; queuing a bundle again outdates its older entries, which are skipped.

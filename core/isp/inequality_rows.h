@@ -1,7 +1,8 @@
 // The inequality rows of the sheet LPs, written over bundles (paper App. A, eqs. 7c and 7d):
 // block-extent rows C (and optional per-arc bounds) from the start, then the simple and the
 // structural separation rows as the lazy separation search finds them, structural ones in their
-// default and failsafe (App. B) forms. Each row reads sum coef * x_b >= rhs.
+// default and failsafe (App. B) forms. Each row reads sum coef * x_b >= rhs (core/README.md,
+// section Sheet LPs).
 //
 // Every row keeps its value at the current quantization, updated as bundles move, so that the
 // LP right-hand sides rhs - B q_pre, the violation count reported to observers and the bounds of
@@ -24,7 +25,7 @@ namespace ispq {
 enum class RowOrigin : uint8_t {
   kBlockExtent,    // C: a block's extent along one axis is >= 0
   kArcLowerBound,  // C with the per-arc switch: q_a >= bound
-  kSimple,         // links and regions do not collapse (separation.md section 2.5)
+  kSimple,         // links and regions do not collapse (proto/README.md, section Separation)
   kStructural,     // a path found by the separation search, default form
   kFailsafe,       // the same path, non-negative failsafe form B+
 };

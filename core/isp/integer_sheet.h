@@ -1,6 +1,7 @@
-// An integer sheet: a consistency-preserving integer update of the bundle lengths (paper
-// section 4.2), stored sparsely over the bundles it changes. Positive entries inflate, negative
-// ones deflate; a sheet with both is a mixed-sign sheet (section 4.3.3).
+// An integer sheet: a consistency-preserving integer update of the bundle lengths (paper section
+// 4.2), stored sparsely over the bundles it changes. Positive entries inflate, negative ones
+// deflate; a sheet with both is a mixed-sign sheet (section 4.3.3). See core/README.md, section
+// Integer sheets.
 #ifndef ISPQ_CORE_ISP_INTEGER_SHEET_H_
 #define ISPQ_CORE_ISP_INTEGER_SHEET_H_
 

@@ -153,7 +153,7 @@ class IntegerSheetPump {
 };
 
 // ---------------------------------------------------------------------------------------------
-// Alg. 1 with the lazy separation loop of separation.md section 3.13
+// Alg. 1 with the lazy separation loop (core/README.md, section The separation loop)
 
 absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
   // The first descent runs with consistency and C rows only.

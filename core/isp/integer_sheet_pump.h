@@ -1,13 +1,13 @@
-// The Integer-Sheet-Pump algorithm (paper Alg. 1-3, App. A-C) with the lazy separation loop of
-// shared/separation.md section 3.13: q = 0, greedy descent by integer sheets rooted at the bundles
-// furthest from their targets, then rounds of (simple rows | structural search) -> separating
-// sheet updates -> greedy descent, until the search finds nothing and a final thorough greedy
-// pass (both directions for every bundle; toward its target only on large subproblems) changes
-// nothing. A search hands over only the rows of its first few violations in each subproblem;
-// while it left some over, the search is repeated right after the separating update, before
-// descending (core/isp/isp_tuning.h, max_new_rows_per_search). On large meshes a valid q traced
-// from the parametrization's layers comes first (core/isp/layered_start.h): reported at once, and
-// the result if the run finds no better valid q before it stops.
+// The Integer-Sheet-Pump algorithm (paper Alg. 1-3, App. A-C) with the lazy separation loop
+// (core/README.md, sections The ISP engine and The separation loop): q = 0, greedy descent by
+// integer sheets rooted at the bundles furthest from their targets, then rounds of (simple rows |
+// structural search) -> separating sheet updates -> greedy descent, until the search finds nothing
+// and a final thorough greedy pass (both directions for every bundle; toward its target only on
+// large subproblems) changes nothing. A search hands over only the rows of its first few violations
+// in each subproblem; while it left some over, the search is repeated right after the separating
+// update, before descending (core/isp/isp_tuning.h, max_new_rows_per_search). On large meshes a
+// valid q traced from the parametrization's layers comes first (core/isp/layered_start.h): reported
+// at once, and the result if the run finds no better valid q before it stops.
 //
 // Quantize() (core/quantizer.h) is the product entry point: it validates the options, supplies
 // the LP back end and checks the final q with the validator. The engine is written against

@@ -1,4 +1,5 @@
-// OPTIMALINTEGERSTEP of the paper (Alg. 1): the best multiplicity t of an integer sheet.
+// OPTIMALINTEGERSTEP of the paper (Alg. 1): the best multiplicity t of an integer sheet
+// (core/README.md, section From a rational vertex to an integer step).
 //
 // Applying t times a sheet changes the objective by f(t) = a t^2 + b t with a > 0, a convex
 // parabola, so the best integer in a feasible interval is the rounded vertex clamped to the

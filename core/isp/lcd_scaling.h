@@ -1,7 +1,8 @@
 // From a rational LP solution to an integer sheet (paper section 4.3.1): the simplex returns a
-// vertex with small rational entries, usually integers, occasionally halves (the T-junction
-// U-turn of Fig. 6) and rarely quarters or eighths (nested U-turns, Fig. 7). Multiplying by the
-// least common denominator gives an integer sheet with the same support and proportions.
+// vertex with small rational entries, usually integers, occasionally halves (the T-junction U-turn
+// of Fig. 6) and rarely quarters or eighths (nested U-turns, Fig. 7). Multiplying by the least
+// common denominator gives an integer sheet with the same support and proportions (core/README.md,
+// section From a rational vertex to an integer step).
 #ifndef ISPQ_CORE_ISP_LCD_SCALING_H_
 #define ISPQ_CORE_ISP_LCD_SCALING_H_
 

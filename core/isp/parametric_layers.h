@@ -2,7 +2,7 @@
 // valid q of a large run (the anytime start of core/isp/integer_sheet_pump.h).
 //
 // The T-mesh comes with the continuous parametrization it was cut from (every node's coordinates
-// in each block frame, shared/tmesh-format.md section 6). An iso-surface of one coordinate,
+// in each block frame, proto/README.md, section Block frames). An iso-surface of one coordinate,
 // followed from block to block through the patches, crosses every patch it enters at one arc on
 // each of the two opposite sides; counting the crossings per arc gives an integer sheet: every
 // consistency row gains as much on one side as on the other. Adding layers until every arc is

@@ -83,8 +83,8 @@ int64_t SeparationRows::NumViolated() const {
 }
 
 std::vector<int32_t> SeparationRows::ActivateSimpleRows(SubproblemSet& subproblems) {
-  // All or nothing (separation.md section 2.5): once any simple row is violated, all of them
-  // join the active rows for the rest of the run.
+  // All or nothing (core/README.md, section The separation loop): once any simple row is violated,
+  // all of them join the active rows for the rest of the run.
   simple_active_ = true;
   std::vector<int32_t> to_attach;
   for (int i = 0; i < simple_terms_.size(); ++i) {

@@ -1,9 +1,9 @@
-// The rows of the separation problem over bundles (paper eqs. 1c-1d) through one ISP run, and
-// their roles: the block-extent rows C (and optional per-arc bounds) from the start; the simple
-// rows (links, regions), held aside until one is first violated and then activated all at once
-// (shared/separation.md section 2.5); and the structural rows the separation search finds, each
-// in its default form with its failsafe twin B+ (paper App. B), which stands in for it while a
-// subproblem is separated in failsafe mode.
+// The rows of the separation problem over bundles (paper eqs. 1c-1d) through one ISP run, and their
+// roles: the block-extent rows C (and optional per-arc bounds) from the start; the simple rows
+// (links, regions), held aside until one is first violated and then activated all at once
+// (core/README.md, section The separation loop); and the structural rows the separation search
+// finds, each in its default form with its failsafe twin B+ (paper App. B), which stands in for it
+// while a subproblem is separated in failsafe mode.
 //
 // The rows themselves live in an InequalityRows store (core/isp/inequality_rows.h) that the LPs
 // read; this class decides which are active. Activating a row that is in no LP yet hands it back

@@ -1,4 +1,5 @@
-// The (bundle, direction) checks of the greedy passes that a non-improving sheet already answered.
+// The (bundle, direction) checks of the greedy passes that a non-improving sheet already answered
+// (core/README.md, section Covered checks).
 //
 // An integer sheet is a dual surface: the cheapest sheet through one root usually is the cheapest
 // sheet through every other bundle it moves, in the direction it moves them. When the cheapest

@@ -1,4 +1,5 @@
-// Proves a sheet request infeasible without solving its LP, by bound propagation.
+// Proves a sheet request infeasible without solving its LP, by bound propagation (core/README.md,
+// section Refutation without an LP).
 //
 // In the thorough pass of a large part about half of the sheet LPs are infeasible: deflating a
 // bundle that is already at zero (or one a separation row needs) forces, through the T-junction

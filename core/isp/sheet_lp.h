@@ -1,4 +1,5 @@
-// The linear-program interface the integer-sheet LPs (paper App. A) are written against.
+// The linear-program interface the integer-sheet LPs (paper App. A) are written against
+// (core/README.md, sections Sheet LPs and LP back ends).
 //
 // The quantizer keeps one small LP per independent subproblem alive for the whole run and
 // solves it hundreds of times, each time after changing a handful of numbers: objective

@@ -1,7 +1,7 @@
-// What one sheet LP solve asks for (paper App. A, C): the root and the direction it is pumped
-// in (eqs. 7e/7f) or none for a separating solve, the weights, the sign restrictions of the
-// mode (eq. 7g and uniform-sign sheets), and the bundles blocked in one direction or pinned to a
-// value for this solve only.
+// What one sheet LP solve asks for (paper App. A, C): the root and the direction it is pumped in
+// (eqs. 7e/7f) or none for a separating solve, the weights, the sign restrictions of the mode (eq.
+// 7g and uniform-sign sheets), and the bundles blocked in one direction or pinned to a value for
+// this solve only (core/README.md, section Sheet LPs).
 #ifndef ISPQ_CORE_ISP_SHEET_REQUEST_H_
 #define ISPQ_CORE_ISP_SHEET_REQUEST_H_
 

@@ -1,6 +1,6 @@
 // One step of the pump (paper Alg. 2 and 3): the rational vertex of a subproblem's sheet LP made
-// into an integer sheet, checked against the active rows, with its best integer multiplicity
-// along the convex objective.
+// into an integer sheet, checked against the active rows, with its best integer multiplicity along
+// the convex objective (core/README.md, section From a rational vertex to an integer step).
 //
 // A rational vertex becomes integer by a dive (fix the fractional bundle closest to its next
 // integer away from zero, re-solve, at most kMaxDivePins times) and then multiplication by the

@@ -1,5 +1,5 @@
-// The sheet LP of one independent subproblem (paper App. A with the decomposition of section
-// 4.4), built once and then edited in place between solves.
+// The sheet LP of one independent subproblem (paper App. A with the decomposition of section 4.4),
+// built once and then edited in place between solves (core/README.md, section Sheet LPs).
 //
 // Columns: two per bundle of the subproblem, Delta+ (column 2i) and Delta- (column 2i + 1), both
 // >= 0, so that a sheet is Delta+ - Delta-. Rows: the subproblem's consistency rows over bundles

@@ -1,4 +1,5 @@
-// The unfavorability weights of the sheet LP objective (paper eq. 3-4, App. A).
+// The unfavorability weights of the sheet LP objective (paper eq. 3-4, App. A; core/README.md,
+// section Weights).
 //
 // A sheet that moves an arc by one unit toward its target is cheap (tier 1, weight <= 1/2), one
 // that moves it across its target costs about |A| (tier 2), and one that moves it further away

@@ -44,8 +44,8 @@ SubproblemSet::SubproblemSet(const ConsistencyMatrix& consistency, const ArcBund
 
 void SubproblemSet::BuildEqualities(const ConsistencyMatrix& consistency, const ArcBundles& bundles,
                                     const Subproblems& initial) {
-  // Rows that bundling made trivial are dropped (section 4.4); rows that became identical up to
-  // sign are kept once.
+  // Rows that bundling made trivial are dropped (paper section 4.4); rows that became identical up
+  // to sign are kept once.
   std::unordered_map<uint64_t, std::vector<int32_t>> by_hash;
   std::vector<LinearTerm> terms;
   for (int r = 0; r < consistency.num_rows(); ++r) {

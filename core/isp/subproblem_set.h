@@ -1,4 +1,5 @@
-// The subproblems of one ISP run (paper section 4.4) and their sheet LPs.
+// The subproblems of one ISP run (paper section 4.4; core/README.md, section Bundles and
+// subproblems) and their sheet LPs.
 //
 // A run starts with one subproblem per connected component of the bundles under the
 // consistency and block-extent rows (core/subproblems.h), or a single one without

@@ -1,5 +1,5 @@
 // Reading T-mesh messages from files and strings: `*.tmesh.json` through protobuf's JSON
-// mapping (the format of shared/tmesh-format.md) or binary protobuf (`*.tmesh.pb`).
+// mapping or binary protobuf (`*.tmesh.pb`), as proto/README.md, section Encodings, describes.
 //
 // This only parses; TMeshFromProto validates. Errors name the file and what failed to parse.
 #ifndef ISPQ_CORE_PROTO_TMESH_FILE_H_

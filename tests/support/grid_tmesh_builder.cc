@@ -322,7 +322,7 @@ class GridTMeshBuilder {
   }
 
   // The four corners of a patch, counterclockwise around the normal that points into
-  // blocks[0]: that is the orientation of halfpatch 2p's cycle (format section 5).
+  // blocks[0]: that is the orientation of halfpatch 2p's cycle (proto/README.md, section Patches).
   std::array<GridPoint, 4> CycleCorners(const PatchGeom& patch) const {
     const int qi = FirstInPlaneAxis(patch.axis), qj = SecondInPlaneAxis(patch.axis);
     GridPoint c1 = patch.rect.lo, c3 = patch.rect.lo;
@@ -454,8 +454,8 @@ class GridTMeshBuilder {
       arc->set_to(out_.NodeAt(to));
       arc->set_length(coord_[arc_axis_[a]][to[arc_axis_[a]]] -
                       coord_[arc_axis_[a]][from[arc_axis_[a]]]);
-      // Format section 4: quarter turns of material around the arc minus 4 inside (always 0 in
-      // a grid of boxes) or minus 2 on the boundary (-1 convex edge, +1 concave edge).
+      // proto/README.md, section Arcs: quarter turns of material around the arc minus 4 inside
+      // (always 0 in a grid of boxes) or minus 2 on the boundary (-1 convex edge, +1 concave edge).
       const bool boundary = arc_quarter_turns_[a] < 4;
       arc->set_boundary(boundary);
       arc->set_singular(boundary ? arc_quarter_turns_[a] - 2 : 0);
@@ -627,8 +627,8 @@ class GridTMeshBuilder {
     return count;
   }
 
-  // Singular and feature types and the critical flag, by the rules of shared/separation.md
-  // section 2.1 (core/tmesh_criticality_checks.cc recomputes them the same way).
+  // Singular and feature types and the critical flag, by the rules of proto/README.md, section
+  // Criticality (core/tmesh_criticality_checks.cc recomputes them the same way).
   absl::Status WriteNodeTypes() {
     std::vector<bool> arc_on_feature_patch(proto_.arcs_size(), false);
     std::vector<bool> node_on_feature_patch(proto_.nodes_size(), false);
@@ -790,8 +790,8 @@ class GridTMeshBuilder {
     }
   }
 
-  // Format section 8 / shared/separation.md section 2.2: critical nodes, then links traced from
-  // them, then cyclic links not reached from any critical node, then regions.
+  // proto/README.md, section Critical entities: critical nodes, then links traced from them, then
+  // cyclic links not reached from any critical node, then regions.
   absl::Status WriteCriticalEntities() {
     auto add_entity = [&](int dim, int from, int to) {
       v1::CriticalEntity* entity = proto_.add_critical_entities();

@@ -1,14 +1,14 @@
 // Synthetic T-meshes for unit tests: a block layout in one global integer grid, turned into a
 // complete ispq.v1.TMesh.
 //
-// Tests of the separation search and of the quantizer need tiny meshes whose answers can be
-// worked out by hand (shared/separation.md section 7). BuildGridTMesh takes a few axis-aligned
-// boxes and writes what the reference exporter would write for that motorcycle complex: nodes
-// at block corners and T-junctions, every block face split into patches by the blocks on the
-// other side, arcs split at every node, radial orders, singular marks, feature and critical
-// flags, critical entities, levels and stats. Blocks can be expressed in rotated frames, which
-// exercises transitions and frame handling without changing the geometry. Every mesh it returns
-// passes TMeshFromProto (core/proto/tmesh_from_proto.h) and shared/tools/check_tmesh.py.
+// Tests of the separation search and of the quantizer need tiny meshes whose answers can be worked
+// out by hand (core/README.md, section Cases with known answers). BuildGridTMesh takes a few
+// axis-aligned boxes and writes what the reference exporter would write for that motorcycle
+// complex: nodes at block corners and T-junctions, every block face split into patches by the
+// blocks on the other side, arcs split at every node, radial orders, singular marks, feature and
+// critical flags, critical entities, levels and stats. Blocks can be expressed in rotated frames,
+// which exercises transitions and frame handling without changing the geometry. Every mesh it
+// returns passes TMeshFromProto (core/proto/tmesh_from_proto.h) and shared/tools/check_tmesh.py.
 //
 // Element ids are deterministic but not meaningful; tests name elements by grid points through
 // the lookups of GridTMesh (e.g. "the arc from (1,1,0) to (1,1,1)").
@@ -96,8 +96,8 @@ class GridTMesh {
 
 absl::StatusOr<GridTMesh> BuildGridTMesh(const GridTMeshSpec& spec);
 
-// A 2D layout (rectangles in (u, v)) extruded by one block layer along w, the way
-// shared/separation.md section 7 (T8) turns its 2D examples into T-meshes: every rectangle
+// A 2D layout (rectangles in (u, v)) extruded by one block layer along w, the way core/README.md,
+// section Cases with known answers (T8), turns its 2D examples into T-meshes: every rectangle
 // becomes the block [lo, hi] x [0, 1], the faces w = 0 and w = 1 are boundary. A 2D feature node
 // becomes the feature arc through the layer at that point, a 2D feature arc the feature patch
 // (wall) over that segment. 2D point (u, v) is grid point (u, v, 0) or (u, v, 1).

@@ -1,4 +1,5 @@
-// T2 of shared/separation.md section 7: the hex count of a quantization, and the extent rows.
+// T2 of core/README.md, section Cases with known answers: the hex count of a quantization, and
+// the extent rows.
 #include "core/block_extents.h"
 
 #include <array>

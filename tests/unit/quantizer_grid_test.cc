@@ -87,8 +87,9 @@ TEST(QuantizerGridTest, LShapeWithAConcaveEdge) {
   for (double scaling : {0.4, 1.0, 1.9}) ExpectOptimal(ExtrudeLayout(layout), scaling);
 }
 
-// separation.md section 5.1: a feature node whose mid and low rows are thinner than 1/2. Plain
-// rounding would put it on the bottom boundary; separation demands a sheet below it.
+// Example A (core/README.md, section Cases with known answers): a feature node whose mid and low
+// rows are thinner than 1/2. Plain rounding would put it on the bottom boundary; separation demands
+// a sheet below it.
 TEST(QuantizerGridTest, FeatureNodeNearTheBoundaryKeepsASheetBelowIt) {
   const GridTMeshSpec spec = ExtrudeLayout(testing::SeparationExampleA());
   for (double scaling : {0.8, 1.0}) ExpectOptimal(spec, scaling);

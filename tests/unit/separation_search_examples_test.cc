@@ -1,8 +1,8 @@
-// The separation search on small synthetic T-meshes with known answers (shared/separation.md
-// section 7, T5-T12): two blocks along u, the feature node in a 2x2x2 grid, a link start with
-// pre-branch walking, the 2D worked examples of section 5 extruded by one layer, frame
-// invariance under all 24 rotations, a transition with a sign flip in both block-box modes,
-// priority by target length, and the sign rule of mixed axes.
+// The separation search on small synthetic T-meshes with known answers (core/README.md, section
+// Cases with known answers, T5-T12): two blocks along u, the feature node in a 2x2x2 grid, a link
+// start with pre-branch walking, the 2D worked examples A-C extruded by one layer, frame invariance
+// under all 24 rotations, a transition with a sign flip in both block-box modes, priority by target
+// length, and the sign rule of mixed axes.
 #include <algorithm>
 #include <array>
 #include <cstdlib>
@@ -496,10 +496,10 @@ std::vector<std::pair<EntityId, int>> ReportingStarts(
 // T9 in the reference-compatible mode, with every other block rotated: the deviation of the
 // reference made explicit. A block seen from the start frame through a rotation that negates an
 // axis along which the block has positive extent gets an inverted box and is never entered
-// (section 3.6). So a case loses rows exactly under the rotations negating such an axis of the
-// blocks its violating walks must enter, and never gains any. (Compared by reporting start
-// configuration: where several rows tie, e.g. T7's three arcs, a different admissible set can
-// make the heap pick another of them.)
+// (core/README.md, section Block admissibility and the two block-box modes). So a case loses rows
+// exactly under the rotations negating such an axis of the blocks its violating walks must enter,
+// and never gains any. (Compared by reporting start configuration: where several rows tie, e.g.
+// T7's three arcs, a different admissible set can make the heap pick another of them.)
 TEST(SeparationExamplesTest, ReferenceModeLosesRowsUnderSignFlips) {
   constexpr int kU = 1, kV = 2, kW = 4;
   struct Expectation {

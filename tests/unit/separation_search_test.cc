@@ -1,5 +1,5 @@
-// The separation search on the single cube (shared/separation.md section 7, T4), on every
-// shared T-mesh with consistent quantizations built by elimination (invariants that every
+// The separation search on the single cube (core/README.md, section Cases with known answers, T4),
+// on every shared T-mesh with consistent quantizations built by elimination (invariants that every
 // reported violation must satisfy, determinism T13, scale invariance), and its speed.
 #include "core/separation_search.h"
 
