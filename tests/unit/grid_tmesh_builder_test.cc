@@ -71,7 +71,7 @@ GridTMeshSpec UnitCube() {
 TEST(GridTMeshBuilderTest, UnitCubeHasTheReferenceCubesStructure) {
   const GridTMesh mesh = BuildValid(UnitCube());
   const v1::TMesh& built = mesh.proto();
-  const v1::TMesh reference = LoadProtoOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const v1::TMesh reference = LoadProtoOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   EXPECT_EQ(built.nodes_size(), reference.nodes_size());
   EXPECT_EQ(built.arcs_size(), reference.arcs_size());
   EXPECT_EQ(built.patches_size(), reference.patches_size());

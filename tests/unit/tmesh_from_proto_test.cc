@@ -25,8 +25,8 @@ using ::testing::HasSubstr;
 
 // A real mesh with interior patches and non-identity transitions.
 const v1::TMesh& Tetrahedron() {
-  static const v1::TMesh* const kMesh =
-      new v1::TMesh(testing::LoadProtoOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
+  static const v1::TMesh* const kMesh = new v1::TMesh(
+      testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json")));
   return *kMesh;
 }
 
@@ -411,7 +411,7 @@ TEST(CorruptionTest, TableIsLargeAndAllKindsDiffer) {
 // Critical entities are derived from the mesh, never taken from the request (issue 7): a mesh
 // without its list gets exactly the file's entities, on every real mesh.
 TEST(TMeshFromProtoTest, CriticalEntitiesAreDerivedWhenTheListIsLeftOut) {
-  const std::vector<std::string> files = testing::SharedTMeshFiles();
+  const std::vector<std::string> files = testing::RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     v1::TMesh proto = testing::LoadProtoOrDie(file);
@@ -455,7 +455,7 @@ std::string ReplaceFirst(std::string text, const std::string& from, const std::s
 
 TEST(TMeshJsonTest, MalformedDocumentsAreRejected) {
   const std::string json =
-      *ReadFileToString(testing::BundledSample("s04u_tetrahedron.tmesh.json"), 1 << 20);
+      *ReadFileToString(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json"), 1 << 20);
   const std::vector<JsonCorruption> cases = {
       {"truncated", [](const std::string& s) { return s.substr(0, s.size() / 2); },
        "not a T-mesh JSON document"},
