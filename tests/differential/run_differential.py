@@ -193,7 +193,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("tmesh", nargs="+")
-    parser.add_argument("--oracle", required=True, help="the upstream oracle's driver (built outside the repository)")
+    parser.add_argument("--oracle", required=True,
+                        help="the upstream oracle's driver (built outside the repository)")
     parser.add_argument("--samples", help="folder containing MC3D-samples/ (real set)")
     parser.add_argument("--hexex-dir", help="folder of <name>.hexex for other T-meshes")
     parser.add_argument("--ours", default=os.path.join(build, "ispq_separation_dump"))

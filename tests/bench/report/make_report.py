@@ -562,7 +562,8 @@ def claims_table(h):
          f"{max(h['exact_times_iqp'], default=0):.2f} s on the IQP's instances, where upstream "
          f"IQP takes median {median(h['ref_iqp_times']):.2f} s, max "
          f"{max(h['ref_iqp_times'], default=0):.1f} s"),
-        ("ISP run time on the whole set (tests/data/reference)", "upstream: median 0.11 s, total 128 s",
+        ("ISP run time on the whole set (tests/data/reference)",
+         "upstream: median 0.11 s, total 128 s",
          f"median {1000 * median(h['isp_times']):.1f} ms, max {max(h['isp_times']):.3f} s, "
          f"total {sum(h['isp_times']):.2f} s (with its lower bound)"),
         ("Exact mode proves optimality within 60 s on the IQP's instances (issue 12 target ≥ 90%)",
