@@ -30,6 +30,7 @@
 #include "core/critical_entities.h"
 #include "core/flat_lists.h"
 #include "core/tmesh.h"
+#include "core/tmesh_criticality_checks.h"
 #include "core/tmesh_input.h"
 
 namespace ispq {
@@ -86,6 +87,8 @@ class TMeshBuilder {
   // the order the input listed them.
   FlatLists<HalfarcId> edge_halfarcs_;
   std::vector<int8_t> edge_order_;
+  // For CheckNodeTypes: each node's stated types, which the model does not keep.
+  std::vector<NodeTypes> node_types_;
 };
 
 }  // namespace ispq

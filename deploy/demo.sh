@@ -10,7 +10,7 @@ cmake --preset release >/dev/null
 cmake --build --preset release -j 2 --target ispq ispq-server
 
 BIN=build/release
-SAMPLE=tests/data/s07c_notch.tmesh.json
+SAMPLE=tests/data/tmesh/hex-me/s07c_notch.tmesh.json
 WORK=$(mktemp -d)
 SERVER_LOG="$WORK/ispq-server.log"
 SERVER_PID=""

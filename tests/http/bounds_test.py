@@ -84,7 +84,7 @@ class BodyBoundsTest(unittest.TestCase):
 
     def test_the_server_still_serves(self):
         self.assertEqual(self.server.request("GET", "/healthz")[0], 200)
-        job = self.server.submit(ispq.bundled("s07c_notch.tmesh.json"), 10)
+        job = self.server.submit(ispq.bundled("hex-me/s07c_notch.tmesh.json"), 10)
         self.assertEqual(self.server.wait_done(job["name"], timeout=120)["state"], "SUCCEEDED")
 
 

@@ -53,7 +53,7 @@ def jobs(server):
 class CrossSiteBrowserTest(unittest.TestCase):
     def test_other_origins_cannot_create_jobs_the_own_page_can(self):
         os.makedirs(ispq.ARTIFACTS, exist_ok=True)
-        mesh = ispq.bundled("s07c_notch.tmesh.json").strip()
+        mesh = ispq.bundled("hex-me/s07c_notch.tmesh.json").strip()
         with ispq.Server("--workers=1") as server, Browser() as browser:
             refused = 'ispq_http_refused_total{status="415"}'
             refused_before = server.metric(refused)

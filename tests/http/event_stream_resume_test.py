@@ -50,7 +50,7 @@ class RawEventStream:
 
 class EventStreamResumeTest(unittest.TestCase):
     def test_last_event_id_resumes_after_a_hang_up(self):
-        notch = json.loads(ispq.bundled("s07c_notch.tmesh.json"))
+        notch = json.loads(ispq.bundled("hex-me/s07c_notch.tmesh.json"))
         mesh = disjoint_copies(notch, 60)
         mesh_path = os.path.join(ispq.ARTIFACTS, "notch_x60.tmesh.json")
         os.makedirs(ispq.ARTIFACTS, exist_ok=True)

@@ -21,7 +21,7 @@ namespace ispq::testing {
 
 class ConsistentQuantizations {
  public:
-  // Aborts the test binary if the elimination overflows int64 (it does not on the shared data).
+  // Aborts the test binary if the elimination overflows int64 (it does not on the real data).
   explicit ConsistentQuantizations(const TMesh& mesh);
 
   // The arcs whose values parametrize all consistent q, ascending.

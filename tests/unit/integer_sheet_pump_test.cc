@@ -23,9 +23,9 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshDir;
+using ::ispq::testing::RealTMeshDir;
+using ::ispq::testing::RealTMeshPath;
 
 struct Variant {
   std::string name;
@@ -54,9 +54,10 @@ class IntegerSheetPumpVariantTest : public ::testing::TestWithParam<Variant> {};
 TEST_P(IntegerSheetPumpVariantTest, EndsValidOnEveryLevel) {
   IspTuning tuning;
   GetParam().apply(tuning);
-  for (const char* file : {"s07c_notch.tmesh.json", "s04u_tetrahedron.tmesh.json",
-                           "fanpart.tmesh.json", "s02c_prism.tmesh.json"}) {
-    const TMesh mesh = LoadTMeshOrDie(BundledSample(file));
+  for (const char* file :
+       {"hex-me/s07c_notch.tmesh.json", "hex-me/s04u_tetrahedron.tmesh.json",
+        "singularity-constrained-fields/fanpart.tmesh.json", "hex-me/s02c_prism.tmesh.json"}) {
+    const TMesh mesh = LoadTMeshOrDie(RealTMeshPath(file));
     for (const Level& level : mesh.levels()) {
       QuantizeOptions options;
       options.scaling = level.scaling;
@@ -76,7 +77,7 @@ INSTANTIATE_TEST_SUITE_P(Tunings, IntegerSheetPumpVariantTest, ::testing::Values
                          [](const auto& info) { return info.param.name; });
 
 QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tuning) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample(file));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath(file));
   QuantizeOptions options;
   options.scaling = mesh.levels()[level_index].scaling;
   const absl::StatusOr<IspOutcome> outcome =
@@ -86,8 +87,8 @@ QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tunin
 }
 
 TEST(IntegerSheetPumpTest, RunsOnTheCallersCheckOnlyIfItFitsTheMeshAndRule) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
-  const TMesh copy = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
+  const TMesh copy = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[7].scaling;
   const auto run = [&](SeparationCheck& check) {
@@ -116,13 +117,13 @@ TEST(IntegerSheetPumpTest, RunsOnTheCallersCheckOnlyIfItFitsTheMeshAndRule) {
 TEST(IntegerSheetPumpTest, FailsafeOnlyUsesTheFailsafeMode) {
   IspTuning tuning;
   tuning.failsafe_separation_only = true;
-  const QuantizeStats stats = StatsFor("s07c_notch.tmesh.json", 7, tuning);
+  const QuantizeStats stats = StatsFor("hex-me/s07c_notch.tmesh.json", 7, tuning);
   EXPECT_GT(stats.failsafe_updates, 0);
   EXPECT_EQ(stats.separating_updates, 0);
 }
 
 TEST(IntegerSheetPumpTest, DefaultsSeparateWithoutTheFailsafeOnTheNotch) {
-  const QuantizeStats stats = StatsFor("s07c_notch.tmesh.json", 7, IspTuning{});
+  const QuantizeStats stats = StatsFor("hex-me/s07c_notch.tmesh.json", 7, IspTuning{});
   EXPECT_GT(stats.separating_updates, 0);
   EXPECT_EQ(stats.failsafe_updates, 0);
 }
@@ -130,8 +131,10 @@ TEST(IntegerSheetPumpTest, DefaultsSeparateWithoutTheFailsafeOnTheNotch) {
 TEST(IntegerSheetPumpTest, WithoutTheThoroughPassFewerSolvesAreNeeded) {
   IspTuning quick;
   quick.thorough_final_pass = false;
-  const QuantizeStats full = StatsFor("fanpart.tmesh.json", 4, IspTuning{});
-  const QuantizeStats partial = StatsFor("fanpart.tmesh.json", 4, quick);
+  const QuantizeStats full =
+      StatsFor("singularity-constrained-fields/fanpart.tmesh.json", 4, IspTuning{});
+  const QuantizeStats partial =
+      StatsFor("singularity-constrained-fields/fanpart.tmesh.json", 4, quick);
   EXPECT_LT(partial.lp_solves, full.lp_solves);
 }
 
@@ -198,7 +201,7 @@ TEST(IntegerSheetPumpTest, ThoroughPassesOnLargeSubproblemsPumpTowardTargetsOnly
             ValidRunOnPart(mesh, IspTuning{}).stats.lp_solves);
 }
 
-// A run on a shared T-mesh whose result the validator must accept; its objective.
+// A run on a real T-mesh whose result the validator must accept; its objective.
 double ValidObjective(const TMesh& mesh, double scaling, const IspTuning& tuning,
                       int64_t* separation_rounds = nullptr) {
   QuantizeOptions options;
@@ -223,8 +226,7 @@ double ValidObjective(const TMesh& mesh, double scaling, const IspTuning& tuning
 // a time, the sheets of the first rows separate the entities of the others by other paths, two
 // rows suffice and the run ends at 25.63.
 TEST(IntegerSheetPumpTest, FewRowsPerSearchSkipRowsThatOtherSheetsMadeUnnecessary) {
-  const TMesh mesh =
-      LoadTMeshOrDie(SharedTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json");
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json");
   const double scaling = mesh.levels()[6].scaling;
   ASSERT_EQ(mesh.levels()[6].percent, 50);
   IspTuning all_at_once;
@@ -239,7 +241,7 @@ TEST(IntegerSheetPumpTest, FewRowsPerSearchSkipRowsThatOtherSheetsMadeUnnecessar
 // k copies of a mesh need as many separation rounds as one copy and reach k times its objective
 // (with one cap for the whole mesh, 160 copies of s07c_notch took 884 rounds instead of 6).
 TEST(IntegerSheetPumpTest, DisjointPartsGetTheirRowsInTheSameRound) {
-  const std::string path = SharedTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json";
+  const std::string path = RealTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json";
   const absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(path);
   ASSERT_TRUE(proto.ok()) << proto.status();
   const TMesh one = testing::TMeshOrDie(proto->get());
@@ -261,12 +263,12 @@ class EventLog : public ProgressObserver {
 };
 
 // Anytime: when a separating update leaves a separating q, it is reported at once, before the
-// descent that follows, instead of after it. The run itself takes the same path (the shared set
+// descent that follows, instead of after it. The run itself takes the same path (the real set
 // gives identical q with and without the probe). Without the probe a descent (kGreedy) never
 // follows the first separating event before the final pass (kFinal) began: the first separating
 // event came from a search that found nothing, after which only the final pass runs.
 TEST(IntegerSheetPumpTest, AValidQALeftBySeparatingUpdateIsReportedBeforeTheNextDescent) {
-  const TMesh mesh = LoadTMeshOrDie(SharedTMeshDir() + "/hex-me/n06u_anti_pentapyr.tmesh.json");
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshDir() + "/hex-me/n06u_anti_pentapyr.tmesh.json");
   QuantizeOptions options;
   options.scaling = mesh.levels()[7].scaling;
   EventLog log;

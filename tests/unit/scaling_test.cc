@@ -19,8 +19,8 @@ namespace {
 using ::testing::HasSubstr;
 
 const TMesh& Tetrahedron() {
-  static const TMesh* const kMesh =
-      new TMesh(testing::LoadTMeshOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
+  static const TMesh* const kMesh = new TMesh(
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json")));
   return *kMesh;
 }
 

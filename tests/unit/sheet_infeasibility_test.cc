@@ -125,12 +125,12 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Case{"notch",
                            [] {
                              return testing::LoadTMeshOrDie(
-                                 testing::BundledSample("s07c_notch.tmesh.json"));
+                                 testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
                            }},
                       Case{"cube_corner_sub_sphere",
                            [] {
                              return testing::LoadTMeshOrDie(
-                                 testing::SharedTMeshDir() +
+                                 testing::RealTMeshDir() +
                                  "/hex-me/s14b_cube_corner_sub_sphere.tmesh.json");
                            }},
                       Case{"large_single_1000",
