@@ -19,8 +19,8 @@ Exempt: the differential harness against the upstream research code (tests/diffe
 documented by-hand tool that needs upstream's code and MC3D-samples' .hexex files, neither of
 which is in the repository; and this file, which spells the patterns. Citations of the
 specification documents that used to live beside the checkout (shared/tmesh-format.md,
-shared/separation.md, the paper in shared/paper) are listed too; they fail the check once
-DOCUMENT_CITATIONS_FAIL is set, when issue 25's rewrite of those citations has landed.
+shared/separation.md, the paper in shared/paper) fail the check too: the specifications are
+proto/README.md and core/README.md now.
 
 Before reading the tree, every rule is run on a line it must catch and one it must let pass, so
 that a rule that can no longer fire fails here rather than passing silently.
@@ -38,9 +38,9 @@ EXEMPT_PREFIXES = ("tests/differential/",)
 SIBLING = "sha" + "red"
 WORK = "/wo" + "rk/"
 
-# Issue 25 moves the specifications into proto/README.md and core/README.md and rewrites every
-# comment citing shared/; until that has landed, such citations are reported but do not fail.
-DOCUMENT_CITATIONS_FAIL = False
+# Citations of the old specification documents fail: proto/README.md and core/README.md replace
+# them.
+DOCUMENT_CITATIONS_FAIL = True
 
 # (name, pattern, a line it must catch, a line it must let pass)
 RULES = [
