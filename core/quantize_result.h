@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a quantization gives back: the integer arc lengths with their verdict, how the run ended,
 // how far from optimal it is proven to be and what it cost. The ISP engine (core/isp/) and the
 // exact mode (core/exact/) fill the statistics; the facade (core/quantizer.h) adds the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Builds the immutable TMesh (core/tmesh.h) from plain element data (core/tmesh_input.h), checking
 // the rules of proto/README.md (section What the loader checks, steps 2 to 8) and deriving the
 // adjacency the model precomputes. It is the only code that writes a TMesh, so a TMesh that exists

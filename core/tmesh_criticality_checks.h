@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Rules about what is critical (proto/README.md, sections Arcs, Criticality and Critical entities):
 // an arc's boundary flag and whether its singular mark is non-zero follow from the blocks around it
 // (core/arc_singularity.h); a node's critical flag follows from the marks of its arcs and patches;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Rules about directions and coordinates in the blocks' (u, v, w) frames (proto/README.md, sections
 // Block frames, Transitions, Patches and Blocks): every patch lies in a face of each of its blocks,
 // its sides run along their stated directions in the reference block, and its transition maps one

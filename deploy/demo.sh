@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The README's first command: installs what is missing, builds, starts the quantization server
 # (ispq-server, default flags) in the background, quantizes a bundled real T-mesh through the
 # client with live progress, prints the result summary and stops the server gracefully.

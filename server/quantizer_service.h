@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ispq.v1.Quantizer service on gRPC's callback API: each method authenticates its caller
 // (server/authenticator.h), takes its request within the memory budget (server/request_intake.h),
 // turns it into calls on the scheduler and the mesh store, and answers. No method blocks a gRPC

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How a request enters the server, within the memory budget: taken from its call, accounted as
 // received, checked before parsing (server/request_footprint.h), then parsed with its parsed size
 // reserved. Every step that fails answers at once: INVALID_ARGUMENT for bytes that are no valid

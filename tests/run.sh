@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The whole test suite, from a fresh checkout: installs what is missing, builds (Release) and
 # runs every test with CTest, then runs the core unit tests once more under AddressSanitizer and
 # UndefinedBehaviorSanitizer, and fuzzes the request parser and loader for a bounded time.

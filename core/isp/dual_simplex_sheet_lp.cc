@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/dual_simplex_sheet_lp.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The choices of the ISP engine that stay switchable, each because switching it measurably
 // changes the result. The measurement is noted with each: the change of the mean objective ratio
 // to the reference ISP results and of the LP solves on the 496 shared instances when only that

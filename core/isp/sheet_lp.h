@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The linear-program interface the integer-sheet LPs (paper App. A) are written against
 // (core/README.md, sections Sheet LPs and LP back ends).
 //

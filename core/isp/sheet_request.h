@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What one sheet LP solve asks for (paper App. A, C): the root and the direction it is pumped in
 // (eqs. 7e/7f) or none for a separating solve, the weights, the sign restrictions of the mode (eq.
 // 7g and uniform-sign sheets), and the bundles blocked in one direction or pinned to a value for

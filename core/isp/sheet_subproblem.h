@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The sheet LP of one independent subproblem (paper App. A with the decomposition of section 4.4),
 // built once and then edited in place between solves (core/README.md, section Sheet LPs).
 //

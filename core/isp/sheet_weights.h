@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The unfavorability weights of the sheet LP objective (paper eq. 3-4, App. A; core/README.md,
 // section Weights).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A bounded dual simplex whose work per solve is proportional to the pivots it makes, for LPs
 // that are solved thousands of times after small edits (the sheet LPs of core/isp/sheet_lp.h).
 //

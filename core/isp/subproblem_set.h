@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The subproblems of one ISP run (paper section 4.4; core/README.md, section Bundles and
 // subproblems) and their sheet LPs.
 //

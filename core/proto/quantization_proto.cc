@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/proto/quantization_proto.h"
 
 #include "absl/status/status.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding an ispq.v1.TMesh message into the core TMesh model: the only way a mesh from a file
 // or a request enters core/.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The quantization benchmark: every real T-mesh at all 8 resolution levels (or some),
 // single-threaded, in-process, with ISP or exact mode. Writes one TSV row per run (and, with
 // --trace_out, the anytime curve of every run) and prints a one-screen summary: time (median,

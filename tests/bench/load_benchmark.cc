@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Load-time benchmark: for every real T-mesh, the time to parse its JSON, to parse the same
 // message as binary protobuf, and to validate and build the core model; plus the problem counts
 // (arcs, bundles, subproblems). Writes a TSV and prints a summary.

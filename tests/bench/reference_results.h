@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The upstream research implementation's results on the real T-meshes
 // (tests/data/reference/qgp3d-isp.tsv and qgp3d-iqp-all.tsv), keyed by model and level, so the
 // benchmark can report ratios against them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Separation-search benchmark: time per FindViolations call on every real T-mesh for two kinds
 // of consistent q (near the targets, and sparse with many zero arcs, which makes many
 // violations). Writes a TSV and prints a summary.

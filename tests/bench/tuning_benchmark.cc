@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The effect of each choice of the ISP engine's tuning (core/isp/isp_tuning.h): every real
 // T-mesh at all 8 levels with the defaults, then with one choice switched back at a time, each
 // result checked by the validator. Prints, per variant, the mean and total objective ratio to the

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """The repository stands on its own: nothing in it refers to a path outside the checkout.
 
 A clone in a folder with nothing beside it must build, test and benchmark (issue 25). That held

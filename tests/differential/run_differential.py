@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Differential testing of ispq's validator against the upstream implementation's own checks.
 
 For every T-mesh given, ispq_differential_instances writes many quantizations (ISP results at

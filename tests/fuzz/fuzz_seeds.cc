@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writes the seed corpus of quantize_request_fuzzer: one binary ispq.v1.QuantizeRequest per
 // real T-mesh of at most kMaxArcsToQuantize arcs and scaling (levels 0, 50 and 100, a factor
 // and a target hex count), into the directory given as the only argument.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds the libFuzzer targets (the `fuzz` preset: clang, ASan, UBSan) and runs each for a bounded
 # time, seeded with the real T-meshes of tests/data/tmesh. The test command runs it with
 # 30 s per target; run it longer by hand, e.g. `tests/fuzz/run_fuzzers.sh 3600`.

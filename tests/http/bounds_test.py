@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The HTTP side bounded before it trusts anything (issue 24): every attack of the issue's table
 against a live ispq-server with a 256 MiB memory budget, asserting what the server answers, how
 much of an attack it reads and how much memory it takes (its peak resident set, /proc/PID/status),

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Cross-site requests from a real browser (headless Chromium over the DevTools protocol,
 devtools_pipe.py) against an anonymous ispq-server, as issue 24 found them: a page on another
 origin (a file:// page) posts a job with a text/plain form and with fetch in no-cors mode, and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Server-sent events read by a raw HTTP client (http.client, no SSE library): the stream is
 text/event-stream with `id:` lines equal to the events' numbers; a client that hangs up and comes
 back with `Last-Event-ID: n` gets the events after n, exactly those a stream from n + 1 gets, and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Measures the HTTP side under each attack of issue 24's table and prints the figures beside the
 issue's (taken before the HTTP side moved to libmicrohttpd), as a Markdown table; also written to
 $ISPQ_TEST_ARTIFACTS/http_attack_report.md. Each attack runs against a fresh ispq-server with a

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Hostile clients of the HTTP side, over raw sockets, as issue 24 tried them: compressed, chunked,
 length-less, oversized and deeply nested bodies; floods of header lines, one endless header or
 request line; hundreds of slow and idle connections while the probes are polled; cross-site and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """/metrics, /healthz and /readyz of the HTTP side against a live server: the metrics parse with
 Prometheus' own text-format parser (python3-prometheus-client) and follow what the server does
 (accepted and finished jobs, rejections by reason, histograms, queue, memory); readiness turns

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The web view in a real browser: headless Chromium (driven over the DevTools protocol,
 devtools_pipe.py) opens the page of a live ispq-server, uploads a T-mesh made of copies of the
 bundled notch sample through the page's form, watches the objective curve appear and grow while

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq` command line against a real server, as a script would run it: the remote
 // quantize path writes the same result as the local one, the job subcommands (submit, watch,
 // cancel, jobs), health and server-stats, plain progress lines when not on a TTY, and the exit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact mode through the service and the CLI: a job with METHOD_EXACT on the real server streams
 // progress with the running bound and improving intermediate quantizations and ends OPTIMAL with
 // a valid result better than ISP's; `ispq quantize --method exact` does the same from the command

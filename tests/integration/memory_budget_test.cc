@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The memory budget (--max_memory_bytes) against the memory attacks of issue 7, each on a fresh
 // server with a 512 MiB budget: after every attack the server is alive, still quantizes a normal
 // job, and its peak resident set (VmHWM) stayed under 640 MiB. Measured on the server before the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Quantize (submit and watch in one call) end to end on real T-meshes: the real server binary,
 // the real client library, events in order, and results the validator accepts that are the
 // same as an in-process solve's.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the service's integration tests (and the load test) share: starting the real server,
 // connecting the real client, building requests from real T-meshes, waiting for job states,
 // the long-running job, and checking every result with the product's validator.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq stats` command as a user runs it: the real binary, its output and exit codes.
 #include <fstream>
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Load test of the quantization service (not part of the default test run; a small bounded
 // variant is, see CMakeLists.txt): C concurrent clients each run J jobs through the real
 // ispq-server on loopback, over the real T-meshes at several levels, bounded in count

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/server/server_test_jobs.h"
 
 #include "core/mesh_stats.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Consistent integer quantizations of real T-meshes, built without the quantizer.
 //
 // Tests of the separation search and of the validator need inputs that satisfy every

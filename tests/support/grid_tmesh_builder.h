@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Synthetic T-meshes for unit tests: a block layout in one global integer grid, turned into a
 // complete ispq.v1.TMesh.
 //

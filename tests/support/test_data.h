@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Locating and loading the T-meshes tests run on: the 62 real T-meshes bundled in
 // tests/data/tmesh (tests/data/tmesh/README.md: provenance, licence), required (a missing or
 // partial set fails the tests instead of skipping them), and upstream's results on them in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bundle-level quantization and its incrementally kept objective d(q) = sum (q_a - s l_a)^2.
 #include "core/isp/bundle_quantization.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Consistency matrix, bundles, subproblems and hex count on meshes with known answers.
 #include "core/arc_bundles.h"
 #include "core/block_extents.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact mode end to end (Quantize with QuantizationMethod::kExact, core/exact/exact_quantizer.h):
 // proven optima on five small real meshes and on grid meshes with brute-force optima, never worse
 // than ISP, improvements streamed as they are found, interruption, and the loop's variants. Every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ISP driver's variants (core/integer_sheet_pump.h): every tuning knob, including the ones
 // that reproduce the paper's or the reference's choices instead of the defaults, must still end
 // in a valid quantization, and each knob must do what it says.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The large synthetic T-meshes of the scaling benchmark: every family, at a size the unit tests
 // afford, is deterministic, loads with the product's loader (also from the JSON file it writes,
 // read back as `ispq stats` reads it), has its features and, except for the slabs, couples each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lower bound of a result (core/exact/lower_bound.h): never above the objective or the true
 // optimum, equal to the optimum where the LP relaxation is integral, strictly below where it is
 // not, and attached to results as the options ask.

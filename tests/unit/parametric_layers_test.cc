@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The layered quantization (core/isp/parametric_layers.h): on the real T-meshes and on
 // synthetic parts of every family, the layers close and their q is >= 1 on every arc and valid
 // by the validator at every level; where the parametrization spirals, no q is returned.

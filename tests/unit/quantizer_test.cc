@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Quantize() on the real T-meshes: every result at every level is checked by the
 // validator, plus the contract around options, observers, interruption and time limits.
 #include "core/quantizer.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every real T-mesh (tests/data/tmesh) loads through the JSON mapping, validates, and agrees with
 // the counts its exporter wrote; opposite patch sides have equal continuous length.
 #include <cmath>

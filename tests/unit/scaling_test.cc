@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Resolving the caller's choice of scaling factor against a mesh: a factor is taken as it is, a
 // level is the format's factor for that percent, a hex count inverts the continuous block volume;
 // bad choices are INVALID_ARGUMENT with a message that names the value.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The separation search's mesh tables, built on demand: every list says what the mesh says, and
 // a list is the same whichever lists were built before it.
 #include "core/separation_search_tables.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The separation search on the single cube (core/README.md, section Cases with known answers, T4),
 // on every real T-mesh with consistent quantizations built by elimination (invariants that every
 // reported violation must satisfy, determinism T13, scale invariance), and its speed.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bound propagation (core/isp/sheet_infeasibility.h) never refutes a request the LP can satisfy,
 // and refutes many that it cannot: every root in both directions, on real and synthetic meshes,
 // at a quantization moved off zero and with tight separation-like rows, answered by one LP that

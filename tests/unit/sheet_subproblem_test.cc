@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-subproblem sheet LP: a sheet on a single cube, floors, separating (self-inflating)
 // solves, and the half-integral U-turn of the paper's Figs. 6 and 7.
 #include "core/isp/sheet_subproblem.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // TMeshBuilder on plain data, without protobuf: a unit cube (one block, six boundary patches)
 // written out element by element is built with its derived adjacency and critical entities,
 // broken rules are reported by element, and calls out of order are refused. The rules themselves

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Validation of T-mesh messages: every real file is accepted, and a table of corruptions, each
 // generated from a real file, is rejected with a message that names the offending element.
 #include "core/proto/tmesh_from_proto.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Large synthetic T-meshes for the scaling benchmark: connected polycube-like parts built on the
 // grid builder (tests/support/grid_tmesh_builder.h), deterministic for a seed.
 //

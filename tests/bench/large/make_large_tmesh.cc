@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writes one large synthetic T-mesh (large_tmesh_generator.h) as binary protobuf or JSON:
 //
 //   ispq_make_large_tmesh --family single|slabs|rotated --arcs N [--seed S] --out F.tmesh.pb

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: Apache-2.0
 """The scaling benchmark: ISP on large synthetic T-meshes, from 10^2 to 2*10^5 arcs.
 
 For every family (large_tmesh_generator.h: single, slabs, rotated), size and level (5, 25, 100)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One run of the scaling benchmark (run_scaling.py drives it): quantizes one T-mesh file at one
 // level in-process, single-threaded, and prints one TSV row (with --header, the header first):
 //

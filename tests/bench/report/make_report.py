@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Turns the benchmark tables into the report: one self-contained HTML page with PNG plots.
 
 Reads what tests/bench/report/make_report.sh wrote into --data (ispq_bench's TSVs: isp.tsv,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The benchmark report in one command: builds the benchmark, runs ISP (with its lower bound,
 # timed side by side without it), ISP without mixed-sign sheets and exact mode on every real
 # T-mesh at all 8 levels, and turns the tables into a self-contained HTML page with PNG plots
