@@ -371,7 +371,8 @@ def plot(rows, path, real=None):
             ax.set_yscale("log")
             ax.set_xlabel("arcs")
             ax.grid(True, which="both", alpha=0.3)
-            ax.legend(fontsize=7)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=7)
     axes[1][0].set_yscale("linear")
     axes[1][0].set_ylim(0, 100)
     fig.tight_layout()
