@@ -90,6 +90,8 @@ class ClpSheetLp final : public SheetLp {
                                             " rows x ", model_.numberColumns(), " columns"));
   }
 
+  SheetLpCounters counters() const override { return {.pivots = pivots_}; }
+
   std::span<const double> column_values() const override {
     return {model_.getColSolution(), static_cast<size_t>(model_.numberColumns())};
   }
@@ -101,12 +103,14 @@ class ClpSheetLp final : public SheetLp {
     } else {
       model_.dual(0, flags);
     }
+    pivots_ += model_.numberIterations();
   }
 
   ClpSheetLpOptions options_;
   ClpSimplex model_;
   bool solved_once_ = false;
   bool fresh_factorization_needed_ = true;
+  int64_t pivots_ = 0;
 };
 
 }  // namespace

@@ -102,6 +102,14 @@ std::vector<int32_t> SubproblemSet::WithViolatedRows() const {
   return ids;
 }
 
+std::vector<int32_t> SubproblemSet::Ids() const {
+  std::vector<int32_t> ids;
+  for (int32_t id = 0; id < static_cast<int32_t>(subproblems_.size()); ++id) {
+    if (subproblems_[id] != nullptr) ids.push_back(id);
+  }
+  return ids;
+}
+
 int SubproblemSet::count() const {
   return static_cast<int>(std::count_if(subproblems_.begin(), subproblems_.end(),
                                         [](const auto& s) { return s != nullptr; }));

@@ -44,8 +44,9 @@ class SubproblemSet {
   // Ids of the subproblems with a violated active row, ascending.
   std::vector<int32_t> WithViolatedRows() const;
   SheetSubproblem& at(int32_t id) { return *subproblems_[id]; }
-  // Subproblems left after merging.
+  // Subproblems left after merging, and their ids, ascending.
   int count() const;
+  std::vector<int32_t> Ids() const;
 
   // Row r changed activity: refreshes it in its LP and returns true, or returns false if it is
   // in no LP yet (it must be attached).

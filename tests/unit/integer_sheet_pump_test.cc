@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <string>
 #include <utility>
@@ -47,6 +48,7 @@ std::vector<Variant> Variants() {
       {"one_row_per_search", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
       {"primal_simplex", [](IspTuning&) {}, {.algorithm = ClpAlgorithm::kPrimal}},
       {"cold_factorization", [](IspTuning&) {}, {.keep_factorization = false}},
+      {"bulk_descent_everywhere", [](IspTuning& t) { t.bulk_descent_min_bundles = 0; }},
   };
 }
 
@@ -301,8 +303,9 @@ class QuantizationLog : public EventLog {
 };
 
 // The layered start on the synthetic part (1000 arcs; the threshold lowered to reach it): its q
-// is the first event, separating and valid by the validator, and the run that follows ends with
-// the same q as a run without it, since ISP still starts from q = 0.
+// is the first event, separating and valid by the validator, and when the descent does not start
+// from it, the run that follows ends with the same q as a run without it, since ISP then still
+// starts from q = 0.
 TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone) {
   const TMesh mesh = SyntheticPart();
   for (const int level : {1, 5, 7}) {
@@ -310,6 +313,7 @@ TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone)
     options.scaling = mesh.levels()[level].scaling;
     IspTuning layered;
     layered.layered_start_min_arcs = 0;
+    layered.descend_from_layered_start = false;
     QuantizationLog log;
     const absl::StatusOr<IspOutcome> with =
         RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), layered, &log, nullptr);
@@ -333,6 +337,68 @@ TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone)
     ASSERT_TRUE(alone.ok()) << alone.status();
     EXPECT_EQ(with->q, alone->q) << "level " << level;
     EXPECT_NE(plain.events.front().phase, QuantizationPhase::kLayers);
+  }
+}
+
+// Descending from the layered start (the default above IspTuning::layered_start_min_arcs) ends
+// valid, below the layered q's objective, and no worse than the descent from q = 0 by more than
+// the greedy's usual spread among starting points.
+TEST(IntegerSheetPumpTest, DescendingFromTheLayeredStartEndsValidBelowIt) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning from_layers;
+    from_layers.layered_start_min_arcs = 0;
+    QuantizationLog log;
+    const absl::StatusOr<IspOutcome> descended =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), from_layers, &log, nullptr);
+    ASSERT_TRUE(descended.ok()) << descended.status();
+    ExpectSeparatingAndValid(mesh, *descended);
+    ASSERT_FALSE(log.events.empty());
+    ASSERT_EQ(log.events.front().phase, QuantizationPhase::kLayers);
+    const double objective = QuantizationObjective(mesh, descended->q, options.scaling);
+    EXPECT_LT(objective, log.events.front().objective) << "level " << level;
+
+    IspTuning from_zero = from_layers;
+    from_zero.descend_from_layered_start = false;
+    const absl::StatusOr<IspOutcome> plain =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), from_zero, nullptr, nullptr);
+    ASSERT_TRUE(plain.ok()) << plain.status();
+    const double plain_objective = QuantizationObjective(mesh, plain->q, options.scaling);
+    std::cout << "level " << level << ": from the layered start " << objective << ", from q = 0 "
+              << plain_objective << "\n";
+    EXPECT_LE(objective, 1.02 * plain_objective) << "level " << level;
+  }
+}
+
+// The bulk descent (every subproblem at least IspTuning::bulk_descent_min_bundles bundles) on the
+// synthetic part: valid, within the greedy's spread of the root-by-root descent, in fewer LP
+// solves, and its solves are counted with their pivots.
+TEST(IntegerSheetPumpTest, BulkDescentEndsValidInFewerSolves) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning bulk;
+    bulk.bulk_descent_min_bundles = 0;
+    const absl::StatusOr<IspOutcome> in_bulk =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), bulk, nullptr, nullptr);
+    ASSERT_TRUE(in_bulk.ok()) << in_bulk.status();
+    ExpectSeparatingAndValid(mesh, *in_bulk);
+    IspTuning by_root;
+    by_root.bulk_descent_min_bundles = std::numeric_limits<int>::max();
+    const absl::StatusOr<IspOutcome> root_by_root =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), by_root, nullptr, nullptr);
+    ASSERT_TRUE(root_by_root.ok()) << root_by_root.status();
+    const double bulk_objective = QuantizationObjective(mesh, in_bulk->q, options.scaling);
+    const double root_objective = QuantizationObjective(mesh, root_by_root->q, options.scaling);
+    std::cout << "level " << level << ": bulk " << bulk_objective << " in "
+              << in_bulk->stats.lp_solves << " solves, root by root " << root_objective << " in "
+              << root_by_root->stats.lp_solves << " solves\n";
+    EXPECT_LE(bulk_objective, 1.02 * root_objective) << "level " << level;
+    EXPECT_LT(in_bulk->stats.lp_solves, root_by_root->stats.lp_solves) << "level " << level;
+    EXPECT_GE(in_bulk->stats.lp_pivots, in_bulk->stats.lp_solves / 2) << "level " << level;
   }
 }
 
