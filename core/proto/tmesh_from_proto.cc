@@ -208,18 +208,20 @@ const std::array<double, 3>* FindUvw(const TMesh& mesh, BlockId b, NodeId n) {
   return it != list.end() && it->node == n ? &it->uvw : nullptr;
 }
 
-// Each interior patch's transition T(x) = R x + t carries every node of its cycle from its
-// coordinates in the first block's frame to those in the second's. The model keeps only R (the
-// algorithms never need t), so this is the decoder's to check, on the built mesh: there every
-// cycle arc is known to lie on both blocks, with coordinates for both of its nodes. The tolerance
-// is the builder's for coordinates, relative to the largest coordinate involved (at least 1).
+// Each interior patch's transition T(x) = R x + t, where t is given, carries every node of its
+// cycle from its coordinates in the first block's frame to those in the second's. The model keeps
+// only R (the algorithms never need t), so this is the decoder's to check, on the built mesh: there
+// every cycle arc is known to lie on both blocks, with coordinates for both of its nodes. The
+// tolerance is the builder's for coordinates, relative to the largest coordinate involved (at
+// least 1). The format lets t be omitted (proto/README.md, section Transitions): then there is
+// nothing to check it against, and compact files (the benchmark's largest meshes) leave it out.
 absl::Status CheckTranslations(const v1::TMesh& proto, const TMesh& mesh, double tolerance) {
   for (PatchId p = 0; p < mesh.num_patches(); ++p) {
     const BlockId b0 = mesh.patch_block(p, 0), b1 = mesh.patch_block(p, 1);
     if (b0 == kNoId || b1 == kNoId) continue;
-    std::array<double, 3> t = {0, 0, 0};  // an omitted translation is the zero vector
     const auto& translation = proto.patches(p).transition().translation();
-    if (translation.size() == 3) t = {translation[0], translation[1], translation[2]};
+    if (translation.size() != 3) continue;  // omitted (the header checks for 0 or 3 entries)
+    const std::array<double, 3> t = {translation[0], translation[1], translation[2]};
     for (HalfarcId h : mesh.patch_cycle(p)) {
       const NodeId n = mesh.tail(h);
       const std::array<double, 3>* from = FindUvw(mesh, b0, n);

@@ -294,9 +294,11 @@ std::vector<Corruption> Corruptions() {
          translation->Set(0, translation->Get(0) + 0.5);
        },
        rotated_name + " transition translation ["},
-      {"transition translation omitted",
+      {"transition translation zero where it is not",
        [rotated](v1::TMesh& t) {
-         t.mutable_patches(rotated)->mutable_transition()->clear_translation();
+         auto* translation =
+             t.mutable_patches(rotated)->mutable_transition()->mutable_translation();
+         for (int i = 0; i < 3; ++i) translation->Set(i, 0);
        },
        rotated_name + " transition translation [0,0,0] does not carry node"},
       {"block seven corners",
@@ -431,6 +433,22 @@ TEST(TMeshFromProtoTest, CriticalEntitiesAreDerivedWhenTheListIsLeftOut) {
       EXPECT_THAT(derived->entity_patches(e),
                   ::testing::ElementsAreArray(listed.entity_patches(e)));
     }
+  }
+}
+
+// Translations may be omitted (proto/README.md, section Transitions): every real mesh loads
+// without them, with the same arcs and critical entities, as the benchmark's compact files do.
+TEST(TMeshFromProtoTest, OmittedTranslationsAreNotChecked) {
+  for (const std::string& file : testing::RealTMeshFiles()) {
+    v1::TMesh proto = testing::LoadProtoOrDie(file);
+    const TMesh full = testing::TMeshOrDie(proto);
+    for (v1::Patch& patch : *proto.mutable_patches()) {
+      patch.mutable_transition()->clear_translation();
+    }
+    const absl::StatusOr<TMesh> compact = TMeshFromProto(proto);
+    ASSERT_TRUE(compact.ok()) << file << ": " << compact.status();
+    EXPECT_EQ(compact->num_arcs(), full.num_arcs()) << file;
+    EXPECT_EQ(compact->num_entities(), full.num_entities()) << file;
   }
 }
 
