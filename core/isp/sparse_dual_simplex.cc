@@ -46,8 +46,7 @@ SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOpt
       pending_primal_(std::make_unique<CoinIndexedVector>()),
       pending_cost_(std::make_unique<CoinIndexedVector>()),
       is_nonzero_nonbasic_(num_columns, 0),
-      alpha_(num_columns, 0.0),
-      unboxed_columns_(num_columns) {}
+      alpha_(num_columns, 0.0) {}
 
 SparseDualSimplex::~SparseDualSimplex() = default;
 
@@ -71,8 +70,6 @@ void SparseDualSimplex::SetObjectiveCoefficient(int column, double value) {
 }
 
 void SparseDualSimplex::SetColumnBounds(int column, double lower, double upper) {
-  unboxed_columns_ += static_cast<int>(!(IsFinite(lower) && IsFinite(upper))) -
-                      static_cast<int>(!(IsFinite(lower_[column]) && IsFinite(upper_[column])));
   lower_[column] = lower;
   upper_[column] = upper;
   if (status_[column] == VarStatus::kBasic) {
@@ -709,9 +706,7 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
 }
 
 bool SparseDualSimplex::most_costs_changed() const {
-  // With every column boxed, a warm basis made dual infeasible is repaired by bound flips alone,
-  // without pivots: it is kept however many costs changed.
-  return unboxed_columns_ > 0 && costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
+  return costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
 }
 
 SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {

@@ -238,7 +238,6 @@ class SparseDualSimplex {
   std::vector<int32_t> alpha_touched_;
 
   int64_t costs_changed_ = 0;  // since the last solve
-  int unboxed_columns_;        // columns with an infinite bound
   int64_t iterations_ = 0;
   int64_t refactorizations_ = 0;
 };
