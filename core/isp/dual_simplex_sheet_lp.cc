@@ -98,6 +98,11 @@ class DualSimplexSheetLp final : public SheetLp {
     fallback_pivots_ += clp->counters().pivots;
     if (outcome.ok() && *outcome == LpOutcome::kOptimal) {
       fallback_values_.assign(clp->column_values().begin(), clp->column_values().end());
+      // The sparse simplex goes on from CLP's optimal basis, not from where its budget ran out
+      // (or from the old objective's basis): the solves that follow, with a few rows or costs
+      // changed, are warm again.
+      std::vector<uint8_t> is_basic;
+      if (clp->AppendBasis(&is_basic)) simplex_.AdoptBasis(is_basic, fallback_values_);
     }
     return outcome;
   }
