@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exit codes of the `ispq` command line, stable for scripts (also listed in README.md).
 #ifndef ISPQ_CLIENT_EXIT_CODES_H_
 #define ISPQ_CLIENT_EXIT_CODES_H_

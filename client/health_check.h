@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The standard gRPC health check (grpc.health.v1.Health/Check) from C++, for `ispq health`,
 // container HEALTHCHECKs and tests.
 //

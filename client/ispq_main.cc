@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq` command line: one binary, one subcommand per task.
 //
 //   ispq stats FILE [--json]

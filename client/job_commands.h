@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq` subcommands that manage jobs on a server:
 //
 //   ispq submit FILE --server HOST:PORT (--level P | --scaling S | --target-hexes N) [...]

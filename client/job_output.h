@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the CLI shows a job that runs on a server: its events while it runs (progress on stderr
 // with the same printer as the local path), and its outcome exactly as the local path shows a
 // result: the result file, the result JSON or the summary, and the exit code.

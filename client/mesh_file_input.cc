@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "client/mesh_file_input.h"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A T-mesh file as every CLI command takes it: read (JSON or binary protobuf), then decoded and
 // checked into the model. One place, so that `quantize`, `submit`, `validate` and `stats` refuse
 // a bad file with the same message and the same exit code.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The CLI's JSON output: any ispq.v1 message in protobuf's JSON mapping with every field written,
 // since `valid: false`, zero counts and empty lists are answers too. Every command that prints
 // or writes JSON goes through here, so all of them look alike.

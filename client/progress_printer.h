@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Live progress of a quantization on the terminal, fed with ispq.v1.Progress messages from either
 // an in-process run or a server's event stream. On a TTY one status line is redrawn in place;
 // otherwise each update is a plain line, throttled so logs stay readable.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ispq quantize FILE (--local | --server HOST:PORT) ...`: reads and validates a T-mesh,
 // quantizes it in-process with the same code path a server worker uses, or on a server (the job
 // belongs to the call: interrupting the command cancels it), shows live progress and writes the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The input of `ispq quantize` and `ispq submit`: the T-mesh file read and validated, and the
 // quantization flags resolved against it. Both the local and the remote path start here, so a
 // bad file or flag fails with the same message and exit code in both modes, and a remote

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A C++ client of the ispq quantization service (proto/ispq/v1/service.proto): what the `ispq`
 // command line uses, so that other C++ programs can call the service the same way.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What every `ispq` subcommand that talks to a server shares: where the server is and how to
 // reach it, the call's deadline, and how to show the outcome (the same flags as the local path).
 #ifndef ISPQ_CLIENT_REMOTE_COMMAND_OPTIONS_H_

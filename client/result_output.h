@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writing quantization results: the result file (the JSON form of ispq.v1.QuantizationResult)
 // and the one-paragraph summary a person reads.
 #ifndef ISPQ_CLIENT_RESULT_OUTPUT_H_

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq` subcommands for operators of a server:
 //
 //   ispq health --server HOST:PORT    prints SERVING (exit 0) or why not (exit 6); what the

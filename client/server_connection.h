@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How the client reaches a server: address, transport security and the bearer token, turned
 // into a gRPC channel. Shared by the client library and every remote subcommand of `ispq`.
 #ifndef ISPQ_CLIENT_SERVER_CONNECTION_H_

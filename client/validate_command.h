@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // `ispq validate FILE --result RESULT.json`: checks any quantization, also one produced
 // elsewhere, with the product's validator (consistency, block extents, simple rows, separation
 // search) and prints the verdict with the offending elements.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Arc bundles: arcs forced to equal length by consistency alone (paper section 4.4;
 // core/README.md, section Bundles and subproblems).
 //

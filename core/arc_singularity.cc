@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/arc_singularity.h"
 
 #include "core/direction.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Which arcs are singular, from the blocks around them (proto/README.md, section Arcs).
 //
 // Around an interior arc the blocks fill a full turn: each block contributes a quarter turn if

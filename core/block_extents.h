@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Block extents and the non-negativity rows C of the paper (eq. 1d, block form): a block's extent
 // along an axis is the sum of q over one of its four edges parallel to that axis. Under consistency
 // all four agree; like the reference, the rows use the edge on the positive side of the two other

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Integer positions of the nodes on every block's boundary (core/README.md, section Integer
 // positions).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The consistency matrix A of the quantization problem (paper eq. 1b; proto/README.md, section
 // Consistency): one row per patch and in-plane axis, the sum of q over the side running along +axis
 // minus the sum over the side running along -axis. A consistent q has A q = 0.

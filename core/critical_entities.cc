@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/critical_entities.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The critical entities of a T-mesh, derived from its critical flags (proto/README.md, section
 // Critical entities): every critical node; every critical link, a maximal chain of critical arcs
 // between critical nodes (or a cycle of them); every critical region, a maximal set of critical

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Axis-aligned directions in a block's (u, v, w) parameter frame.
 //
 // A direction is one of the six signed axes, encoded as 2 * axis + (negative ? 1 : 0) so that

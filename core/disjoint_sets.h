@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Union-find over integer ids 0..n-1 with path halving. Joining keeps the smaller id as the
 // representative, so the groups it forms number deterministically by their smallest member
 // (arc bundles, subproblems and merged subproblems all rely on that order).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A list of lists stored in two flat arrays (compressed sparse rows).
 //
 // The T-mesh's adjacency (node -> halfarcs, patch -> cycle, block -> patches, ...) is a list of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What surrounds a halfarc: the halfpatches and blocks around it in radial order, and its
 // neighbours within a halfpatch's boundary cycle (proto/README.md, section Ids, halfarcs and
 // halfpatches).

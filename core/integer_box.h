@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Integer points and axis-aligned boxes in a block or search frame, with the closed-overlap test
 // the separation search is built on (core/README.md, sections Integer positions, The fan, Block
 // admissibility and the two block-box modes, and Violation tests).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // InvalidArgument("arc ", a, ": length ", l, " is not ..."): the INVALID_ARGUMENT status of the
 // concatenated pieces. Every rule the T-mesh checks and the decoder enforce reports this way, so
 // that a message names the element first and the rule it breaks after it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Counts that describe a T-mesh and the size of its quantization problem, as reported by
 // `ispq stats` and in every job's "accepted" event.
 #ifndef ISPQ_CORE_MESH_STATS_H_

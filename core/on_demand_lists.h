@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A list of lists whose lists are built when first asked for, in any order.
 //
 // Some per-element tables are read only around the elements an algorithm visits: the separation

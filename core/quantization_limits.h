@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The numeric range every quantization stays in, and the check that a request's targets fit it.
 //
 // q travels as int32 in the API (proto/ispq/v1/quantization.proto) and is computed in int64.

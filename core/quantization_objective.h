@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The objective the quantization minimises (eq. 1 of the paper; proto/README.md, section Objective
 // and hex count): d(q, s*l), the sum over arcs of (q_a - s * l_a)^2. One definition, used wherever
 // a q is scored against its targets: the quantizer's result and the CLI's `validate`, so that both

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Anytime reporting of a running quantization. The algorithm calls the observer on its own
 // thread at each accepted sheet and each separation round; observers must be cheap (copy what
 // they need and return) because they run inside the solve loop.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The validator of proto/README.md, section Valid quantizations: given any T-mesh and any integer
 // q, reports every consistency violation, every negative block extent, every violated simple row
 // and the separation violations found by the searches, each with the offending element ids. Every

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a quantization is asked to do: the scaling of the targets, the method and the product's
 // switches. The facade (core/quantizer.h) validates them; the ISP engine (core/isp/) and the
 // exact mode (core/exact/) read them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a quantization gives back: the integer arc lengths with their verdict, how the run ended,
 // how far from optimal it is proven to be and what it cost. The ISP engine (core/isp/) and the
 // exact mode (core/exact/) fill the statistics; the facade (core/quantizer.h) adds the
@@ -22,6 +23,11 @@ const char* TerminationName(Termination termination);
 
 struct QuantizeStats {
   int64_t lp_solves = 0;
+  // What the sheet LPs' back ends did in those solves: simplex pivots, refactorizations of the
+  // basis, and solves the sparse dual simplex handed to CLP (core/isp/dual_simplex_sheet_lp.h).
+  int64_t lp_pivots = 0;
+  int64_t lp_refactorizations = 0;
+  int64_t lp_fallback_solves = 0;
   // Greedy checks answered by the sheet of another root (IspTuning::cover_min_bundles).
   int64_t covered_checks = 0;
   int64_t sheets_inflating = 0;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Integer-Sheet-Pump quantization (Brueckler & Campen 2024; core/README.md, section Pipeline):
 // integer arc lengths q that are consistent, give no block a negative extent and are separating,
 // minimizing d(q) = sum_a (q_a - s * l_a)^2 by a greedy sequence of small sheet LPs

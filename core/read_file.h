@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading a whole file into memory with a size limit: T-mesh and result files, the server's TLS
 // certificates and keys, token files. The limit is checked before anything is read, so a huge or
 // endless file is refused instead of exhausting memory; errors name the file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The resolution levels (proto/README.md, section Resolution levels and scaling): a scaling factor
 // s per percentage p such that roughly p percent of the arcs get a scaled target length s * l
 // below 1/2.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The 24 orientation-preserving rotations of the cube, as one-byte values with table lookups.
 //
 // A rotation maps vectors of one block frame to another (the rotational part of a patch

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The scaling factor s of a quantization (the target length of arc a is s * l_a), as a caller
 // chooses it: s itself, one of the resolution levels, or the hex count the continuous blocks
 // should have (proto/README.md, section Resolution levels and scaling). Resolving the choice

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The product's verdict on separation: which searches a q must pass to be called separating.
 //
 // The lazy separation search is a heuristic (core/README.md, section Walks and their order): it

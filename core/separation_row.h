@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A linear inequality over arc lengths, sum_i coef_i * q_{arc_i} >= rhs: the form of every
 // separation constraint (paper eq. 1c) and of the simple rows (links, regions, block extents);
 // core/README.md, section The problem.

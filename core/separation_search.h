@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lazy separation search for fixed singularities (core/README.md, section The lazy separation
 // search; Brueckler, Bommes, Campen 2022, Alg. 1): from every critical node and critical link, a
 // Dijkstra-like search for weakly monotone zero-length paths to another critical entity. Each hit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The mesh tables of the separation search (core/README.md, section Tables and cost): everything it
 // reads that depends on the mesh alone, shared by the searches of one mesh (core/separation_check.h
 // runs two, one after the other on one thread).

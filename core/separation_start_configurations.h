@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The start configurations of the separation search (core/README.md, section Start configurations):
 // one search per outgoing halfarc of every critical node, and one per halfpatch around the first
 // halfarc of every critical link. Each fixes the start node, the start block whose frame is the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The simple rows of the separation problem (proto/README.md, sections Non-negativity and
 // Separation): every critical link has positive length, no critical region collapses completely,
 // every block has non-negative extent along each axis, and optionally every arc is >= a lower

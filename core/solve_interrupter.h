@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Cooperative cancellation of a running quantization. The owner calls Interrupt() from any
 // thread; the algorithm polls IsInterrupted() between LP solves and stops at the next check,
 // returning the best valid quantization found so far. Thread-safe.

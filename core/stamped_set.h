@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A set over dense integer ids that is emptied in O(1).
 //
 // The separation search runs hundreds of short searches per call, each with its own visited

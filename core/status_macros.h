@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Early-return helpers for absl::Status and absl::StatusOr, the idiom of Abseil-based code bases
 // (Abseil's own macros are internal to it):
 //

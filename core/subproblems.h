@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Independent subproblems (paper section 4.4; core/README.md, section Bundles and subproblems):
 // connected components of the bundles under the model's own constraints, the consistency rows and
 // the block-extent rows. A sheet rooted in one component never changes another, so each component

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The validated, immutable T-mesh that every algorithm of ispq reads.
 //
 // A TMesh is a block decomposition (blocks, patches, arcs, nodes) with a continuous target length

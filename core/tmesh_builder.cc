@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/tmesh_builder.h"
 
 #include <algorithm>
@@ -74,6 +75,7 @@ absl::Status TMeshBuilder::AddNode(const NodeInput& node) {
   mesh_.node_outgoing_.Append(node.outgoing_halfarcs);
   mesh_.node_critical_[n] = node.critical;
   mesh_.node_feature_[n] = node.feature;
+  node_types_.push_back({node.singular_type, node.feature_type});
   Advance(n + 1, sizes_.nodes);
   return absl::OkStatus();
 }
@@ -149,8 +151,9 @@ absl::Status TMeshBuilder::Connect() {
   DeriveNodeAdjacency();
   DeriveArcBlocks();
   ISPQ_RETURN_IF_ERROR(CheckArcBlocks(mesh_));
-  // Arc singularity reads arc_blocks; the critical-node rules read the checked singular marks.
+  // Arc singularity reads arc_blocks; the node rules read the checked singular marks.
   ISPQ_RETURN_IF_ERROR(CheckArcSingularity(mesh_));
+  ISPQ_RETURN_IF_ERROR(CheckNodeTypes(mesh_, node_types_));
   ISPQ_RETURN_IF_ERROR(CheckCriticalNodes(mesh_, features_));
   stage_ = Stage::kEntities;
   return absl::OkStatus();

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Builds the immutable TMesh (core/tmesh.h) from plain element data (core/tmesh_input.h), checking
 // the rules of proto/README.md (section What the loader checks, steps 2 to 8) and deriving the
 // adjacency the model precomputes. It is the only code that writes a TMesh, so a TMesh that exists
@@ -30,6 +31,7 @@
 #include "core/critical_entities.h"
 #include "core/flat_lists.h"
 #include "core/tmesh.h"
+#include "core/tmesh_criticality_checks.h"
 #include "core/tmesh_input.h"
 
 namespace ispq {
@@ -86,6 +88,8 @@ class TMeshBuilder {
   // the order the input listed them.
   FlatLists<HalfarcId> edge_halfarcs_;
   std::vector<int8_t> edge_order_;
+  // For CheckNodeTypes: each node's stated types, which the model does not keep.
+  std::vector<NodeTypes> node_types_;
 };
 
 }  // namespace ispq

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/tmesh_criticality_checks.h"
 
 #include <cstdint>
@@ -61,6 +62,51 @@ bool CriticalByRules(const IncidentMarks& m, bool node_feature, bool on_feature_
   return critical;
 }
 
+const char* SingularTypeName(SingularType type) {
+  switch (type) {
+    case SingularType::kRegular:
+      return "REGULAR";
+    case SingularType::kSemiSingular:
+      return "SEMI_SINGULAR";
+    case SingularType::kSingular:
+      return "SINGULAR";
+  }
+  return "?";
+}
+
+const char* FeatureTypeName(FeatureType type) {
+  switch (type) {
+    case FeatureType::kRegular:
+      return "REGULAR";
+    case FeatureType::kSemiFeature:
+      return "SEMI_FEATURE";
+    case FeatureType::kFeature:
+      return "FEATURE";
+    case FeatureType::kSemiFeatureSingularBranch:
+      return "SEMI_FEATURE_SINGULAR_BRANCH";
+  }
+  return "?";
+}
+
+SingularType SingularTypeOf(const IncidentMarks& m) {
+  if (m.singular == 0) return SingularType::kRegular;
+  return m.singular == 2 ? SingularType::kSemiSingular : SingularType::kSingular;
+}
+
+// The branches are the two ways CriticalByRules makes a node critical through feature markers
+// without making it FEATURE; feature arcs and patches only exist where the source has them.
+FeatureType FeatureTypeOf(const IncidentMarks& m, bool node_feature, bool on_feature_patch) {
+  if (node_feature || (m.feature != 0 && m.feature != 2)) return FeatureType::kFeature;
+  if (m.feature == 2) {
+    return m.singular_non_feature ? FeatureType::kSemiFeatureSingularBranch
+                                  : FeatureType::kSemiFeature;
+  }
+  if (m.singular == 2 && on_feature_patch && m.singular_off_feature_patches) {
+    return FeatureType::kSemiFeatureSingularBranch;
+  }
+  return FeatureType::kRegular;
+}
+
 }  // namespace
 
 absl::Status CheckArcSingularity(const TMesh& mesh) {
@@ -91,6 +137,27 @@ absl::Status CheckCriticalNodes(const TMesh& mesh, const FeaturesPresent& presen
       return InvalidArgument("node ", n, ": critical flag ", mesh.node_critical(n),
                              " contradicts the criticality rules (", marks.singular,
                              " singular and ", marks.feature, " feature arcs)");
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckNodeTypes(const TMesh& mesh, std::span<const NodeTypes> declared) {
+  const OnFeaturePatch on = MarkFeaturePatchCycles(mesh);
+  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
+    const IncidentMarks marks = CountIncidentMarks(mesh, n, on);
+    const SingularType singular = SingularTypeOf(marks);
+    if (declared[n].singular != singular) {
+      return InvalidArgument("node ", n, ": singularType ", SingularTypeName(declared[n].singular),
+                             " but ", marks.singular, " singular arcs meet there (",
+                             SingularTypeName(singular), ")");
+    }
+    const FeatureType feature = FeatureTypeOf(marks, mesh.node_feature(n), on.nodes[n]);
+    if (declared[n].feature != feature) {
+      return InvalidArgument("node ", n, ": featureType ", FeatureTypeName(declared[n].feature),
+                             " but its marks make it ", FeatureTypeName(feature), " (",
+                             marks.feature, " feature and ", marks.singular, " singular arcs, ",
+                             mesh.node_feature(n) ? "a" : "not a", " feature node)");
     }
   }
   return absl::OkStatus();

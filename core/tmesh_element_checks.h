@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The rules of proto/README.md (sections Top-level fields to Resolution levels and scaling) that
 // one node, arc, block or resolution level satisfies on its own, and the element counts. Patches,
 // with many more rules, have core/tmesh_patch_checks.h; how elements fit together is checked once

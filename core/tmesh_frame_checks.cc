@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/tmesh_frame_checks.h"
 
 #include <algorithm>
@@ -24,6 +25,42 @@ absl::Status CheckCycleInFaces(const TMesh& mesh, PatchId p) {
       if (AxisOf(*d) == AxisOf(mesh.patch_face_side(p, k))) {
         return InvalidArgument("patch ", p, ": arc ", ArcOf(h), " runs across face ",
                                DirName(mesh.patch_face_side(p, k)), " of block ", b);
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
+// a × b for two axis directions; nullopt when they are parallel.
+std::optional<Dir> Cross(Dir a, Dir b) {
+  const int i = AxisOf(a), j = AxisOf(b);
+  if (i == j) return std::nullopt;
+  // e_i × e_j = +e_k when (i, j, k) is a cyclic order of the axes, -e_k otherwise.
+  const bool cyclic = (j - i + 3) % 3 == 1;
+  return MakeDir(3 - i - j, (IsNegative(a) != IsNegative(b)) == cyclic);
+}
+
+// Each halfpatch's cycle turns, at every corner, about the normal into its block (the
+// right-hand rule): the halfpatch faces its block, and a cycle that turned the other way anywhere
+// would not bound a rectangle. The arcs are known to lie in the face (CheckCycleInFaces), so
+// every turn is about the face's normal, one way or the other.
+absl::Status CheckCycleOrientation(const TMesh& mesh, PatchId p) {
+  for (int k = 0; k < 2; ++k) {
+    const BlockId b = mesh.patch_block(p, k);
+    if (b == kNoId) continue;
+    const HalfpatchId hp = 2 * p + k;
+    const Dir inward = Opposite(mesh.patch_face_side(p, k));
+    const int size = mesh.halfpatch_cycle_size(hp);
+    for (int i = 0; i < size; ++i) {
+      const HalfarcId h = mesh.HalfpatchCycleAt(hp, i);
+      const HalfarcId next = mesh.HalfpatchCycleAt(hp, (i + 1) % size);
+      const std::optional<Dir> turn =
+          Cross(*mesh.HalfarcDirInBlock(h, b), *mesh.HalfarcDirInBlock(next, b));
+      if (turn && *turn != inward) {
+        return InvalidArgument("patch ", p, ": the cycle of halfpatch ", hp, " turns about ",
+                               DirName(*turn), " at node ", mesh.head(h),
+                               " where it must turn about ", DirName(inward),
+                               ", the normal into block ", b);
       }
     }
   }
@@ -113,6 +150,7 @@ absl::Status CheckArcCoordinates(const TMesh& mesh, BlockId b, const BlockArc& b
 absl::Status CheckPatchFrames(const TMesh& mesh) {
   for (PatchId p = 0; p < mesh.num_patches(); ++p) {
     ISPQ_RETURN_IF_ERROR(CheckCycleInFaces(mesh, p));
+    ISPQ_RETURN_IF_ERROR(CheckCycleOrientation(mesh, p));
     ISPQ_RETURN_IF_ERROR(CheckSideDirections(mesh, p));
     ISPQ_RETURN_IF_ERROR(CheckTransition(mesh, p));
   }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Rules about directions and coordinates in the blocks' (u, v, w) frames (proto/README.md, sections
 // Block frames, Transitions, Patches and Blocks): every patch lies in a face of each of its blocks,
 // its sides run along their stated directions in the reference block, and its transition maps one
@@ -19,6 +20,10 @@
 
 namespace ispq {
 
+// Per patch, in id order: its cycle lies in a face of each of its blocks and, seen from each,
+// winds counterclockwise about the normal into that block (so a halfpatch faces its block and
+// the patch is a rectangle, not a folded cycle); its sides run along their directions in the
+// reference block; its transition maps directions in the first block to those in the second.
 absl::Status CheckPatchFrames(const TMesh& mesh);
 
 // edge_halfarcs: 12 lists per block (by edge code), the halfarcs of block_edge_arcs oriented

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Incidence rules (proto/README.md, sections Nodes, Arcs and Blocks): the lists by which elements
 // name each other agree. A node lists exactly the halfarcs that start at it; an arc lists exactly
 // the halfpatches whose cycles contain it; blocks, their faces and their patches name each other

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The plain data a TMesh is built from (core/tmesh_builder.h), one struct per element of the format
 // (proto/README.md), already decoded: directions are Dir, corners and edges are indexed by their
 // codes (core/direction.h), transitions are Rotations. What the model does not keep (node

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The rules of proto/README.md, section Patches, that one patch satisfies, given the nodes and arcs
 // before it: its blocks and flags agree, a boundary patch has the identity transition, its cycle is
 // a closed chain of at least 4 distinct arcs, its reference block is its first block, and its four

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An array of n zero-filled values whose memory is not written when it is allocated.
 //
 // For large per-element tables of which a run reads a small part (core/on_demand_lists.h,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The README's first command: installs what is missing, builds, starts the quantization server
 # (ispq-server, default flags) in the background, quantizes a bundled real T-mesh through the
 # client with live progress, prints the result summary and stops the server gracefully.
@@ -10,7 +11,7 @@ cmake --preset release >/dev/null
 cmake --build --preset release -j 2 --target ispq ispq-server
 
 BIN=build/release
-SAMPLE=tests/data/s07c_notch.tmesh.json
+SAMPLE=tests/data/tmesh/hex-me/s07c_notch.tmesh.json
 WORK=$(mktemp -d)
 SERVER_LOG="$WORK/ispq-server.log"
 SERVER_PID=""

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs, from Debian 12's packages, everything ispq needs to build, test and run.
 # Idempotent: does nothing (and needs no network) when all packages are present.
 set -euo pipefail

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/admission_pool.h"
 
 #include <utility>
@@ -54,6 +55,9 @@ void AdmissionPool::Work() {
       ++running_;
     }
     std::move(task)();
+    // The task's captures (a request's bytes and their reservation) go before the trim, so the
+    // trim returns their pages too.
+    task = nullptr;
     // Parsing and validating a large request allocated and freed many blocks.
     ReleaseFreedMemory();
     absl::MutexLock lock(&mutex_);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The threads that parse and validate the requests that carry meshes, so that gRPC's own threads
 // stay free for everything else, health checks above all.
 //

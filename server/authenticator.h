@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Authentication of Quantizer calls: the principal (server/principal.h) a call is made by.
 //
 //   * Bearer tokens (--auth_tokens_file, or one token from --auth_token/--auth_token_file): a call

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one place where the server's absl::Status becomes what a client sees: the grpc::Status
 // (the canonical codes are the same numbers in both libraries) and, for a status with a retry
 // hint (server/retry_hint.h), the `grpc-retry-pushback-ms` trailer of gRFC A6, which gRPC clients

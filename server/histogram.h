@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A fixed-bucket histogram of durations in seconds, exported as a cumulative (Prometheus-style)
 // ispq.v1.Histogram. Buckets are chosen once for the whole server: quantization times range
 // from milliseconds (small meshes) to the job time limit. Thread-safe.

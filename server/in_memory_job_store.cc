@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/in_memory_job_store.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The default job store (server/job_store.h): the job objects of this process, in admission
 // order. Pruning happens on each access, so no timer thread is needed and memory is bounded by
 // the queue, the workers and the retention policy; the memory budget may also evict the

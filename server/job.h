@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One quantization job: its immutable specification, its state machine and its event log.
 //
 // States: QUEUED -> RUNNING -> SUCCEEDED | FAILED | CANCELLED, or QUEUED -> FAILED | CANCELLED

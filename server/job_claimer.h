@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The workers' job source with a shared store (server/job_claims.h): first the local queue,
 // which holds the call-bound jobs of this replica (a Quantize job runs where its call is), then
 // jobs claimed from the store. Between attempts it sleeps until woken (a job was queued here or

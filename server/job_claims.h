@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Jobs queued in a shared store (server/postgres_job_store.h), claimed by the workers of any
 // replica (server/job_claimer.h) under a lease that the claiming replica renews. A job whose
 // lease expires (its replica died or stalled) is claimable again and is run from the start by

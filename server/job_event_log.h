@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The events of one job, numbered in the order the job emitted them, kept so that a watcher can
 // (re)join at any event number.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where a job reports what happens to it so that it outlives the process: a durable job store
 // (server/postgres_job_store.h) records every state change and event of the jobs this replica
 // creates or runs, so that every replica can answer about them and watch them.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Streams one job's events to one client: the reactor behind both Quantize and WatchJob
 // (raw methods, see server/raw_proto_call.h: events are serialized here).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The memory budget's estimates (server/memory_budget.h) of what meshes, jobs and results hold.
 //
 // Measured on the shared T-meshes and disjoint copies of them (glibc heap and peak RSS):

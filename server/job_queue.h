@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bounded FIFO between the service, which admits jobs, and the workers, which run them.
 //
 // It also counts the jobs workers hold (popped and not yet marked done), so that "nothing queued

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Runs one job to its end on the calling worker thread: the core quantizer
 // (core/quantizer.h, single-threaded) with the job's interrupter and a progress publisher, then
 // the result or the error into the job, the job's start and end log lines and the metrics.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The job side of the server: admission into the bounded queue, the worker pool that runs jobs,
 // the store that answers about them, cancellation, and the draining steps of graceful shutdown.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Where the worker pool takes its jobs from: the local queue (server/job_queue.h) with the
 // in-memory store, or the claimer (server/job_claimer.h), which also claims jobs from a shared
 // store.

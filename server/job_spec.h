@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a job is asked to do, fully validated and resolved at admission: the mesh, the core
 // options (scaling resolved against the mesh, the time limit capped by the server), how often to
 // report, who asked, and the memory reserved for it. Everything a client can get wrong is

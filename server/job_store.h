@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every job the server can answer about: all queued and running jobs, and finished jobs while
 // the retention policy keeps them (at most `max_finished` of them, none older than `max_age`
 // after it ended; the oldest-ended go first). The interface has two implementations:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A SubmitJob request as the service takes it from any transport (gRPC's SubmitJob, the HTTP
 // side's POST /v1/jobs, server/http/): who asks, the request's bytes within the memory budget,
 // and how to answer. Both transports hand their requests to QuantizerService::Submit, so

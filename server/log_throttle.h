@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // At most one log line per interval for a recurring event, with the count of lines held back:
 // while the job store's database is down, every worker, the lease thread and the listener fail
 // again and again, and one line per failure buried the log (15,000 lines a second per replica

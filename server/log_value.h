@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How a client-controlled string (a mesh name, an error message) appears in a structured log
 // line: in double quotes, with quotes, backslashes and control characters escaped and long
 // values cut, so that no client can forge or break up log lines.

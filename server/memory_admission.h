@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Admission against the memory budget (server/memory_budget.h). A claim that does not fit first
 // makes room by evicting what the server keeps only for later retrieval: finished jobs (oldest
 // ended first), then stored meshes (least recently used first). Only when nothing evictable is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The server's memory budget (--max_memory_bytes): one account of the bytes the server holds on
 // behalf of clients, by kind, so that admission can refuse work that would not fit instead of
 // letting the process grow until the kernel kills it with every job on it.

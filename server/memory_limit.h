@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How large the memory budget is (server/memory_budget.h): the --max_memory_bytes flag, which
 // takes sizes such as "512MiB", and its default, derived from the memory the process may use.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Giving freed heap memory back to the operating system after large, short-lived allocations
 // (a job's solve, a large request's parse).
 //

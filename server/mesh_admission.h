@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The door from a client's ispq.v1.TMesh into the server: the server's size limit first (before
 // anything is built from the message), then the core validator (core/proto/tmesh_from_proto.h),
 // then the mesh statistics every job reports in its accepted event.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Meshes uploaded with CreateMesh, for repeated runs without resending them.
 //
 // Memory is bounded by a count and by the memory budget: beyond the count, or when the budget

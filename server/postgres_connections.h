@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A fixed set of PostgreSQL connections (libpqxx) shared by the threads of one replica: each
 // operation borrows one connection for the length of one transaction. A pqxx::connection is not
 // thread-safe, so a connection is used by one thread at a time; a broken connection (the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Records the jobs this replica runs into the PostgreSQL job store (JobEventSink): each change
 // becomes one transaction that updates the job's row (state, summary, event count), writes the
 // event as its kind's kept event and notifies every replica (NOTIFY), so that watchers anywhere

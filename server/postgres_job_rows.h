@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading and writing the rows of one job in the PostgreSQL job store (server/postgres_schema.h),
 // inside a transaction the caller owns: the pieces that the store, its recorder and its claims
 // share.

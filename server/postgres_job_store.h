@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The shared, durable job store (server/job_store.h) on PostgreSQL, selected with
 // --job_store=postgresql://...: every replica using the same database sees every job.
 //

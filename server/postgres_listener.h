@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LISTEN on PostgreSQL notification channels from a thread of its own, with a dedicated
 // connection, and hand each notification to a callback. If the connection breaks it reconnects
 // and calls the callback with an empty channel: notifications may have been missed, so whoever

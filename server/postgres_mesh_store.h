@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Stored meshes (CreateMesh) in the PostgreSQL job store's database (table ispq_meshes, see
 // server/postgres_schema.h), so that a mesh uploaded through one replica can be named in
 // requests to any other. The serialized ispq.v1.TMesh is stored; a replica that needs the mesh

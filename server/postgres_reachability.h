@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Whether the job store's database answers, as readiness needs it: a thread of its own asks
 // `SELECT 1` every `period` on a connection of its own, bounded by `timeout`, and keeps the
 // answer in a flag that costs nothing to read. A replica whose database does not answer cannot

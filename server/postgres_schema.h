@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The job store's tables in PostgreSQL, created and migrated by the server at start.
 //
 // Versioned: table ispq_schema holds the version the database is at; Migrate applies the steps

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Who a call is made by. Every job and stored mesh belongs to the principal that created it and is
 // visible only to that principal (its name in Job.owner and Mesh.owner) and to admin principals,
 // which see and act on everything. Without authentication every caller is the same anonymous

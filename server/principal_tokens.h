@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bearer tokens a server accepts and the principal each one stands for, read from
 // --auth_tokens_file: one "PRINCIPAL TOKEN" pair per line, blank lines and lines starting with
 // '#' ignored, e.g.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bridge from the solver's anytime reports (core/quantization_progress.h) to a job's events.
 //
 // The solver calls OnProgress at every accepted sheet and separation round, which can be

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/quantizer_server.h"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ispq-server: the quantization service of proto/ispq/v1/service.proto, with standard health
 // checking (grpc.health.v1: liveness, and readiness as service "readiness") and server
 // reflection, as one object that owns all its parts.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/quantizer_service.h"
 
 #include <cstdint>
@@ -199,6 +200,7 @@ void QuantizerService::Submit(JobSubmission submission) {
   auto shared = std::make_shared<JobSubmission>(std::move(submission));
   const int64_t size = shared->raw.size;
   if (!Dispatch(size, [this, shared] { AdmitSubmission(shared); })) {
+    Discard(shared->raw);
     shared->answer(DispatchRefused(size));
   }
 }
@@ -227,22 +229,30 @@ void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shar
 }
 
 void QuantizerService::AdmitSubmission(const std::shared_ptr<JobSubmission>& submission) {
+  // Decided in its own scope so that the parsed request and its reservation are gone before the
+  // caller hears the outcome: a refused request holds no memory once it is answered.
+  std::optional<JobSubmission::Outcome> outcome = DecideSubmission(submission);
+  if (outcome.has_value()) submission->answer(*outcome);
+}
+
+std::optional<JobSubmission::Outcome> QuantizerService::DecideSubmission(
+    const std::shared_ptr<JobSubmission>& submission) {
   const JobSubmission& s = *submission;
-  if (s.abandoned && s.abandoned()) return s.answer(CancelledBeforeAdmission());
+  if (s.abandoned && s.abandoned()) return CancelledBeforeAdmission();
   absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
       ParseWithinBudget<v1::QuantizeRequest>(submission->raw, memory_);
   if (!parsed.ok()) {
     if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
-    return s.answer(parsed.status());
+    return parsed.status();
   }
   v1::QuantizeRequest& request = parsed->message;
   const int64_t size = submission->raw.size;
   if (request.request_id().empty()) {
-    return s.answer(AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false));
+    return AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false);
   }
   if (absl::Status valid = ValidateRequestId(request.request_id()); !valid.ok()) {
     metrics_.RecordRejectedInvalid();
-    return s.answer(valid);
+    return valid;
   }
   // The fingerprint covers everything but the id itself.
   std::string request_id = std::move(*request.mutable_request_id());
@@ -252,12 +262,12 @@ void QuantizerService::AdmitSubmission(const std::shared_ptr<JobSubmission>& sub
   RequestIds::Decision decision = request_ids_.Begin(
       s.principal.name, request_id, fingerprint,
       [submission](RequestIds::Outcome outcome) { submission->answer(outcome); });
-  if (decision.outcome.has_value()) return s.answer(*decision.outcome);
-  if (!decision.ticket.has_value()) return;  // the first call with this id answers this one too
+  if (decision.outcome.has_value()) return *decision.outcome;
+  if (!decision.ticket.has_value()) return std::nullopt;  // the first call with this id answers
   const absl::StatusOr<std::shared_ptr<Job>> job =
       AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false, fingerprint);
   request_ids_.Complete(*decision.ticket, job);
-  s.answer(job);
+  return job;
 }
 
 grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerContext* context,
@@ -268,31 +278,38 @@ grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerConte
   if (!accepted.has_value()) return call;
   const int64_t size = accepted->raw.size;
   const bool dispatched = Dispatch(size, [this, call, accepted = *std::move(accepted)]() mutable {
-    AdmitCreateMesh(*call, accepted.principal, accepted.raw);
+    // Decided first, answered after: the parsed request's reservation is gone by then.
+    absl::StatusOr<v1::Mesh> created = AdmitCreateMesh(*call, accepted.principal, accepted.raw);
+    if (created.ok()) {
+      call->Answer(*created);
+    } else {
+      call->Fail(created.status());
+    }
   });
   if (!dispatched) call->Fail(DispatchRefused(size));
   return call;
 }
 
-void QuantizerService::AdmitCreateMesh(UnaryCall& call, const Principal& principal,
-                                       RawRequest& raw) {
-  if (call.context().IsCancelled()) return call.Fail(CancelledBeforeAdmission());
+absl::StatusOr<v1::Mesh> QuantizerService::AdmitCreateMesh(UnaryCall& call,
+                                                            const Principal& principal,
+                                                            RawRequest& raw) {
+  if (call.context().IsCancelled()) return CancelledBeforeAdmission();
   absl::StatusOr<ParsedRequest<v1::CreateMeshRequest>> parsed =
       ParseWithinBudget<v1::CreateMeshRequest>(raw, memory_);
-  if (!parsed.ok()) return call.Fail(parsed.status());
+  if (!parsed.ok()) return parsed.status();
   absl::StatusOr<AdmittedMesh> mesh = StoreableMesh(parsed->message.mesh(), raw.size);
   if (!mesh.ok()) {
     if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
-    return call.Fail(mesh.status());
+    return mesh.status();
   }
   absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
       meshes_.Add(*std::move(mesh), parsed->message.mesh(), principal.name, absl::Now());
-  if (!stored.ok()) return call.Fail(stored.status());
-  const v1::Mesh answer = MeshToProto(**stored);
+  if (!stored.ok()) return stored.status();
+  v1::Mesh answer = MeshToProto(**stored);
   spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),
                QuotedLogValue(answer.owner()), QuotedLogValue(answer.display_name()),
                answer.mesh_stats().arcs());
-  call.Answer(answer);
+  return answer;
 }
 
 absl::StatusOr<AdmittedMesh> QuantizerService::StoreableMesh(const v1::TMesh& proto,

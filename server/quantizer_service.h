@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ispq.v1.Quantizer service on gRPC's callback API: each method authenticates its caller
 // (server/authenticator.h), takes its request within the memory budget (server/request_intake.h),
 // turns it into calls on the scheduler and the mesh store, and answers. No method blocks a gRPC
@@ -146,7 +147,11 @@ class QuantizerService final : public RawQuantizerService {
   absl::StatusOr<std::shared_ptr<Job>> QuantizeJob(grpc::CallbackServerContext& context,
                                                    const Principal& principal, RawRequest& raw);
   void AdmitSubmission(const std::shared_ptr<JobSubmission>& submission);
-  void AdmitCreateMesh(UnaryCall& call, const Principal& principal, RawRequest& raw);
+  // The submission's outcome; none when another call with the same request id will answer it.
+  std::optional<JobSubmission::Outcome> DecideSubmission(
+      const std::shared_ptr<JobSubmission>& submission);
+  absl::StatusOr<v1::Mesh> AdmitCreateMesh(UnaryCall& call, const Principal& principal,
+                                           RawRequest& raw);
   // The mesh of a CreateMesh request, validated, with memory reserved in the store's account.
   absl::StatusOr<AdmittedMesh> StoreableMesh(const v1::TMesh& proto, int64_t request_bytes);
   // Runs `admit` at once for a small request (on a store-call thread with a shared store), else

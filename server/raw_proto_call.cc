@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/raw_proto_call.h"
 
 namespace ispq::server {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Parsing requests and serializing responses of raw (ByteBuffer) callback methods.
 //
 // The service registers its methods raw so that it, not gRPC, decides what a request that is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Readiness for orchestrators, as the health service "readiness" (grpc.health.v1): SERVING while
 // the server would accept a new job, NOT_SERVING while it would refuse it, so that a load balancer
 // sends work elsewhere instead of into refusals. Liveness (service "" and "ispq.v1.Quantizer")

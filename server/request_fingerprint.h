@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A fingerprint of a request, to tell a retried SubmitJob (the same request again) from a
 // different request that reuses a request_id (server/request_ids.h): the SHA-256 of the request's
 // deterministic serialization, computed while serializing without building the bytes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a request will cost before it is parsed: a walk over its wire format that estimates the
 // heap that parsing it would allocate, and refuses strings longer than the server accepts.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Idempotent SubmitJob (AIP-155): which job each principal's request_id created, so that a
 // retried call returns that job instead of creating a duplicate.
 //

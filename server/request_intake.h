@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How a request enters the server, within the memory budget: taken from its call, accounted as
 // received, checked before parsing (server/request_footprint.h), then parsed with its parsed size
 // reserved. Every step that fails answers at once: INVALID_ARGUMENT for bytes that are no valid
@@ -42,17 +43,29 @@ struct ParsedRequest {
   MemoryReservation memory;
 };
 
-// Reserves the parsed size, parses and lets go of the raw bytes.
+// Lets go of a request's bytes and their reservation.
+inline void Discard(RawRequest& raw) {
+  raw.bytes.Clear();
+  raw.memory.Release();
+}
+
+// Reserves the parsed size, parses and lets go of the raw bytes, whether parsing succeeded or not:
+// a refused request holds no memory once the caller hears why.
 template <typename Message>
 absl::StatusOr<ParsedRequest<Message>> ParseWithinBudget(RawRequest& raw, MemoryAdmission& memory) {
   absl::StatusOr<int64_t> estimate = EstimateParsedBytes(*Message::descriptor(), raw.bytes);
-  if (!estimate.ok()) return estimate.status();
+  if (!estimate.ok()) {
+    Discard(raw);
+    return estimate.status();
+  }
   absl::StatusOr<MemoryReservation> reserved =
       memory.Reserve(MemoryUse::kRequests, *estimate, "parsing the request");
-  if (!reserved.ok()) return reserved.status();
+  if (!reserved.ok()) {
+    Discard(raw);
+    return reserved.status();
+  }
   absl::StatusOr<Message> message = ParseRequest<Message>(raw.bytes);
-  raw.bytes.Clear();
-  raw.memory.Release();
+  Discard(raw);
   if (!message.ok()) return message.status();
   return ParsedRequest<Message>{*std::move(message), *std::move(reserved)};
 }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Resource names of the service (AIP-122): jobs are "jobs/{id}", stored meshes "meshes/{id}".
 //
 // Ids are 16 random lowercase hex digits, so that names are not guessable from one another and

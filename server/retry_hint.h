@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A retry hint carried by a RESOURCE_EXHAUSTED status from where it is decided (the job queue,
 // the memory budget) to where it is sent (the service adds the `grpc-retry-pushback-ms` trailer
 // of gRFC A6, which gRPC clients with a retry policy honour). The hint also appears in the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Everything ispq-server is configured with, as one value: filled from the command-line flags
 // by server_main.cc and checked once before anything starts.
 #ifndef ISPQ_SERVER_SERVER_CONFIG_H_

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The transport security of the listening port: plaintext by default (loopback), TLS with the
 // server's certificate, or mutual TLS that requires and verifies client certificates.
 #ifndef ISPQ_SERVER_SERVER_CREDENTIALS_H_

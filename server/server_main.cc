@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ispq-server: serves ispq.v1.Quantizer (see server/quantizer_server.h for the threading model
 // and the shutdown sequence). Logs one structured line per event to stderr.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Counters the server keeps for operators (GetServerStats): admissions, rejections and evictions,
 // jobs ended by final state, and histograms of solve time and queue wait. Updated by the service
 // and the workers as things happen; thread-safe and cheap (atomics and one mutex per histogram).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/socket_deadlines.h"
 
 #include <sys/socket.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Deadlines for blocking calls on sockets that a library owns (libpq under libpqxx): a thread of
 // its own shuts down (shutdown(2), not close) the socket of any call still running at its
 // deadline, so that the call fails at once instead of waiting for an answer that may never come.

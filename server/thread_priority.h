@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // CPU priority of the server's own long-running threads (solver workers, admission threads).
 //
 // They are CPU-bound for seconds at a time; gRPC's threads answer calls, health probes among

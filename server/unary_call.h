@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A unary call answered from whichever thread has the answer (gRPC's own for lookups, an
 // admission thread for requests that carry meshes), with its response accounted in the memory
 // budget until gRPC has sent it: a job with its result or a page of jobs can be megabytes, and

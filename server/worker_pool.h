@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A fixed number of worker threads, each taking one job at a time from the queue and running it
 // to its end (server/job_runner.h), from a JobSource (server/job_source.h). A job never uses more
 // than its one worker thread, so the pool's size is the number of solves that run at once. Threads

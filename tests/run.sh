@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The whole test suite, from a fresh checkout: installs what is missing, builds (Release) and
 # runs every test with CTest, then runs the core unit tests once more under AddressSanitizer and
 # UndefinedBehaviorSanitizer, and fuzzes the request parser and loader for a bounded time.
-# `.ci/run` calls exactly this.
+# `.ci/run` calls exactly this. It needs nothing beside the checkout: the tests' data is in
+# tests/data, and the Standalone test (tests/deploy/check_standalone.py) fails if anything in
+# the tree refers to a path outside the checkout.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

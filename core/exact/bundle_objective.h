@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The objective d(q) = sum_a (q_a - s * l_a)^2 split over arc bundles (core/arc_bundles.h), and
 // its piecewise-linear form on the integers, which is what makes the problem a MILP.
 //

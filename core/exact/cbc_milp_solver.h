@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MilpSolver (core/exact/milp_solver.h) on COIN-OR CBC, the open-source branch-and-cut solver of
 // the same family as the CLP the ISP engine uses; its LP relaxation is solved by CLP directly.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact mode: the quantization problem (paper eq. 1) solved to proven optimality by a MILP
 // (core/exact/quantization_milp.h) in the lazy separation loop of BBC22 (paper section 3): solve,
 // check the solution with the product's separation search, add the rows of what it finds (default

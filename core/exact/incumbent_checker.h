@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The judge of the exact mode's candidate quantizations (paper section 3, step 3, applied to every
 // incumbent of the MILP, not only to its optimum): a candidate that satisfies the consistency and
 // simple rows goes through the product's separation check (core/separation_check.h). If the check

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The LP relaxation of the exact model (core/exact/quantization_milp.h) solved with its secant
 // rows added only where the solution needs them, on the sparse dual simplex of the sheet LPs
 // (core/isp/sparse_dual_simplex.h): the lower bound of every ISP result (core/exact/lower_bound.h).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lower bound every result carries (QuantizeResult::lower_bound): the LP relaxation of the
 // exact model (core/exact/quantization_milp.h) for the problem with the separation rows a run
 // found, windowed by the result itself (every optimum lies within the windows; core/README.md,

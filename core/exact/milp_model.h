@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A mixed-integer linear program in the plain form the exact mode hands to its solvers: columns
 // with bounds, objective coefficients and integrality flags, and rows in the compressed form of
 // core/isp/sheet_lp.h. The quantization model (core/exact/quantization_milp.h) builds one; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The solver interface the exact mode is written against: a MILP solve that reports each new
 // incumbent and its progress as it goes (so that the lazy separation loop can check incumbents
 // while the search runs and the service can stream them), and the LP relaxation of the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/exact/quantization_constraints.h"
 
 #include "core/simple_constraints.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The constraints of the quantization problem (paper eq. 1b-1d) over arc bundles, as the exact
 // mode and the lower bound state them (core/README.md, section Exact mode):
 //   - the consistency rows that bundling leaves (equalities, deduplicated);

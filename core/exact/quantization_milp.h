@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The quantization problem as a MILP over bundles, the model of the exact mode; relaxed, the LP
 // of the lower bound.
 //

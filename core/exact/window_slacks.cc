@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/exact/window_slacks.h"
 
 #include <algorithm>

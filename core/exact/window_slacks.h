@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // How far each bundle may stray from its best integer in the exact model
 // (core/exact/bundle_objective.h), given a known q.
 //

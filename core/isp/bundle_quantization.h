@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The quantization as the ISP driver sees it: one integer per arc bundle (core/arc_bundles.h),
 // since every arc of a bundle always has the same length, with the objective
 // d(q) = sum_a (q_a - s * l_a)^2 over ALL arcs kept up to date incrementally.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/clp_sheet_lp.h"
 
 #include <algorithm>
@@ -89,6 +90,8 @@ class ClpSheetLp final : public SheetLp {
                                             " rows x ", model_.numberColumns(), " columns"));
   }
 
+  SheetLpCounters counters() const override { return {.pivots = pivots_}; }
+
   std::span<const double> column_values() const override {
     return {model_.getColSolution(), static_cast<size_t>(model_.numberColumns())};
   }
@@ -100,12 +103,14 @@ class ClpSheetLp final : public SheetLp {
     } else {
       model_.dual(0, flags);
     }
+    pivots_ += model_.numberIterations();
   }
 
   ClpSheetLpOptions options_;
   ClpSimplex model_;
   bool solved_once_ = false;
   bool fresh_factorization_needed_ = true;
+  int64_t pivots_ = 0;
 };
 
 }  // namespace

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SheetLp (core/isp/sheet_lp.h) on COIN-OR CLP, the open-source simplex solver the paper uses
 // (core/README.md, section LP back ends).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/dual_simplex_sheet_lp.h"
 
 #include <algorithm>
@@ -41,6 +42,12 @@ class DualSimplexSheetLp final : public SheetLp {
     return SolveWithClp();
   }
 
+  SheetLpCounters counters() const override {
+    return {.pivots = simplex_.iterations() + fallback_pivots_,
+            .refactorizations = simplex_.refactorizations(),
+            .fallback_solves = fallback_solves_};
+  }
+
   std::span<const double> column_values() const override {
     return used_fallback_ ? std::span<const double>(fallback_values_) : simplex_.column_values();
   }
@@ -67,6 +74,7 @@ class DualSimplexSheetLp final : public SheetLp {
   // The model as it stands, solved from scratch by CLP.
   absl::StatusOr<LpOutcome> SolveWithClp() {
     used_fallback_ = true;
+    ++fallback_solves_;
     const int n = simplex_.num_columns(), m = simplex_.num_rows();
     std::unique_ptr<SheetLp> clp = NewClpSheetLp(n);
     LpRowBatch rows;
@@ -82,6 +90,7 @@ class DualSimplexSheetLp final : public SheetLp {
       clp->SetColumnBounds(j, simplex_.lower(j), simplex_.upper(j));
     }
     absl::StatusOr<LpOutcome> outcome = clp->Solve();
+    fallback_pivots_ += clp->counters().pivots;
     if (outcome.ok() && *outcome == LpOutcome::kOptimal) {
       fallback_values_.assign(clp->column_values().begin(), clp->column_values().end());
     }
@@ -91,6 +100,8 @@ class DualSimplexSheetLp final : public SheetLp {
   SparseDualSimplex simplex_;
   bool used_fallback_ = false;
   std::vector<double> fallback_values_;
+  int64_t fallback_solves_ = 0;
+  int64_t fallback_pivots_ = 0;
 };
 
 }  // namespace

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SheetLp (core/isp/sheet_lp.h) on the sparse dual simplex of core/isp/sparse_dual_simplex.h,
 // the back end for large subproblems: its cost per solve follows the pivots, not the model.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The roots of the greedy descent (paper Alg. 1) and when to pump them again (core/README.md,
 // section The greedy queue and passes).
 //

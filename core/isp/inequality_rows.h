@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The inequality rows of the sheet LPs, written over bundles (paper App. A, eqs. 7c and 7d):
 // block-extent rows C (and optional per-arc bounds) from the start, then the simple and the
 // structural separation rows as the lazy separation search finds them, structural ones in their

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An integer sheet: a consistency-preserving integer update of the bundle lengths (paper section
 // 4.2), stored sparsely over the bundles it changes. Positive entries inflate, negative ones
 // deflate; a sheet with both is a mixed-sign sheet (section 4.3.3). See core/README.md, section

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/integer_sheet_pump.h"
 
 #include <algorithm>
@@ -83,6 +84,13 @@ class IntegerSheetPump {
   // Alg. 2 for one root: toward its target (and, in a thorough pass on a subproblem below
   // IspTuning::away_checks_max_bundles, the other way); true if a sheet was accepted.
   absl::StatusOr<bool> PumpRoot(BundleId root, bool thorough);
+  // The greedy pass of the subproblems that descend in bulk (IspTuning::bulk_descent_min_bundles):
+  // the best combination of unit moves, applied until none improves; true if one was.
+  absl::StatusOr<bool> BulkDescent(QuantizationPhase phase);
+  bool DescendsInBulk(BundleId b) {
+    return subproblems_.Of(b).bundles().size() >=
+           static_cast<size_t>(tuning_.bulk_descent_min_bundles);
+  }
   // The cheapest sheet of a root is often not an improving one while an improving one exists:
   // blocks the bundles it made worse from moving that way and solves again.
   absl::StatusOr<bool> SteerAroundWorsenedBundles(BundleId root, SheetRequest& request, bool found);
@@ -156,6 +164,12 @@ class IntegerSheetPump {
 // Alg. 1 with the lazy separation loop (core/README.md, section The separation loop)
 
 absl::StatusOr<IspOutcome> IntegerSheetPump::Run() {
+  // From a separating start the simple rows hold: they are enforced from the first descent on.
+  if (has_valid_ && tuning_.descend_from_layered_start) {
+    const std::vector<int32_t> simple = rows_.ActivateSimpleRows(subproblems_);
+    subproblems_.Attach(simple);
+    search_clean_ = true;
+  }
   // The first descent runs with consistency and C rows only.
   ISPQ_RETURN_IF_ERROR(Greedy(false, QuantizationPhase::kGreedy).status());
   int rounds = 0, repeated_searches = 0;
@@ -211,7 +225,8 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
   const double bundles = quantization_.num_bundles();
   const double skip_limit = std::max(kSkipFraction * bundles, double{1} * kMinSkip);
   const double idle_skip_limit = std::min(skip_limit, kIdleSkipBase + kIdleSkipFraction * bundles);
-  bool changed = false;
+  ISPQ_ASSIGN_OR_RETURN(bool changed, BulkDescent(phase));
+  if (clock_.stopped()) return changed;
   int64_t skipped = 0;
   // One pass: the queue holds the roots that every sheet applied since they were last pumped (in
   // this pass or before it) affects, so when it runs dry (or a non-thorough pass meets its skip
@@ -220,6 +235,7 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
   while (thorough || static_cast<double>(skipped) < (changed ? skip_limit : idle_skip_limit)) {
     const std::optional<BundleId> root = queue.Pop();
     if (!root.has_value()) break;
+    if (DescendsInBulk(*root)) continue;  // BulkDescent answered for it
     ISPQ_ASSIGN_OR_RETURN(const bool accepted, PumpRoot(*root, thorough));
     if (clock_.stopped()) return changed;
     if (!accepted) {
@@ -278,6 +294,40 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
     }
   }
   return false;
+}
+
+absl::StatusOr<bool> IntegerSheetPump::BulkDescent(QuantizationPhase phase) {
+  bool changed = false;
+  for (const int32_t id : subproblems_.Ids()) {
+    SheetSubproblem& subproblem = subproblems_.at(id);
+    if (subproblem.bundles().size() < static_cast<size_t>(tuning_.bulk_descent_min_bundles)) {
+      continue;
+    }
+    // Without mixed-sign sheets, inflating and deflating combinations take turns.
+    const std::vector<std::pair<bool, bool>> modes =
+        options_.mixed_sign ? std::vector<std::pair<bool, bool>>{{true, true}}
+                            : std::vector<std::pair<bool, bool>>{{true, false}, {false, true}};
+    for (bool progress = true; progress;) {
+      progress = false;
+      for (const auto& [inflation, deflation] : modes) {
+        while (true) {
+          SheetRequest request;
+          request.unit_moves = true;
+          request.weights = WeightScheme::kUnitCost;
+          request.allow_inflation = inflation;
+          request.allow_deflation = deflation;
+          ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblem, request, &step_));
+          if (clock_.stopped()) return changed;
+          if (!found || step_.gain >= -Tolerance()) break;
+          Apply(step_);
+          changed = progress = true;
+          Report(phase);
+        }
+      }
+      if (modes.size() == 1) break;
+    }
+  }
+  return changed;
 }
 
 absl::StatusOr<bool> IntegerSheetPump::SteerAroundWorsenedBundles(BundleId root,
@@ -372,6 +422,22 @@ absl::StatusOr<bool> IntegerSheetPump::SeparatingUpdate() {
 }
 
 absl::StatusOr<bool> IntegerSheetPump::SeparateSubproblem(int32_t id) {
+  // A subproblem that descends in bulk first tries the bulk LP with the violated rows in it: the
+  // best combination of unit moves that satisfies them, on the LP the descent keeps warm.
+  if (subproblems_.at(id).bundles().size() >=
+      static_cast<size_t>(tuning_.bulk_descent_min_bundles)) {
+    SheetRequest request;
+    request.unit_moves = true;
+    request.weights = WeightScheme::kUnitCost;
+    request.allow_deflation = options_.mixed_sign;
+    ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblems_.at(id), request, &step_));
+    if (found) {
+      Apply(step_);
+      ++stats_.separating_updates;
+      Report(QuantizationPhase::kSeparation);
+      return true;
+    }
+  }
   // Default mode (deflation allowed), then the non-deflating mode (7g). Without mixed-sign
   // sheets only the uniform-sign (non-deflating) mode is used.
   for (const bool allow_deflation : {true, false}) {
@@ -519,6 +585,9 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
   if (mesh.num_arcs() >= tuning.layered_start_min_arcs) {
     start = FindLayeredStart(mesh, consistency, bundles, quantization, options.scaling, separation,
                              clock, stats, observer);
+    if (start.has_value() && tuning.descend_from_layered_start) {
+      quantization.SetValues(start->values);
+    }
   }
   IntegerSheetPump pump(mesh, options, new_lp, tuning, observer, clock, consistency, bundles,
                         std::move(quantization), separation, stats, std::move(start));

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The Integer-Sheet-Pump algorithm (paper Alg. 1-3, App. A-C) with the lazy separation loop
 // (core/README.md, sections The ISP engine and The separation loop): q = 0, greedy descent by
 // integer sheets rooted at the bundles furthest from their targets, then rounds of (simple rows |

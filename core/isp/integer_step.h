@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OPTIMALINTEGERSTEP of the paper (Alg. 1): the best multiplicity t of an integer sheet
 // (core/README.md, section From a rational vertex to an integer step).
 //

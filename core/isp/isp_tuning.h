@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The choices of the ISP engine that stay switchable, each because switching it measurably
 // changes the result. The measurement is noted with each: the change of the mean objective ratio
 // to the reference ISP results and of the LP solves on the 496 shared instances when only that
@@ -66,6 +67,12 @@ struct IspTuning {
   // 5 worse, at most +0.47%. The shared instances are all below the threshold; at 0 they would
   // take 34% fewer LP solves for +0.007% objective.
   int away_checks_max_bundles = 256;
+  // Subproblems of at least this many bundles descend in bulk: each greedy pass solves the LP of
+  // the best combination of unit moves over the whole subproblem (exact objective changes, every
+  // bundle boxed at one unit; SheetRequest::unit_moves) and applies it, until none improves,
+  // instead of pumping root after root. A sheet with moves of one unit is such a combination, so
+  // once the bulk LP finds nothing, no root's unit sheet can improve either.
+  int bulk_descent_min_bundles = 256;
   // Separate in the failsafe mode of App. B only (structural rows in their non-negative form,
   // non-deflating sheets), skipping the default and non-deflating modes. The default mode
   // succeeds on every shared instance (true: +0.000%), so this is what lets tests exercise the
@@ -93,6 +100,9 @@ struct IspTuning {
   // Below the threshold a whole run takes hundredths of a second: with 0, the shared instances
   // end with the same q and LP solves in 3% more CPU time (ispq_tuning_bench).
   int layered_start_min_arcs = 2000;
+  // Start the descent from the layered start's q, with the simple rows active, instead of q = 0,
+  // when the mesh has one (layered_start_min_arcs) and it is separating.
+  bool descend_from_layered_start = true;
 };
 
 }  // namespace ispq

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/layered_start.h"
 
 #include "core/isp/parametric_layers.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The anytime start of a large ISP run (IspTuning::layered_start_min_arcs): the q of the
 // parametrization's layers (core/isp/parametric_layers.h), checked for consistency and by the
 // run's separation check, and reported as its first valid q (phase LAYERS) before the engine

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // From a rational LP solution to an integer sheet (paper section 4.3.1): the simplex returns a
 // vertex with small rational entries, usually integers, occasionally halves (the T-junction U-turn
 // of Fig. 6) and rarely quarters or eighths (nested U-turns, Fig. 7). Multiplying by the least

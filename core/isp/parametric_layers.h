@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A consistent integer quantization with every arc at least 1, built without an LP: the first
 // valid q of a large run (the anytime start of core/isp/integer_sheet_pump.h).
 //

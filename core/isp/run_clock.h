@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Time within one ISP run: the elapsed time for progress reports, the stop condition (the time
 // limit or the caller's SolveInterrupter, checked between LP solves) and scoped timers that add
 // a phase's CPU time to its statistic. Phases are timed in CPU time of the solving thread, which

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The rows of the separation problem over bundles (paper eqs. 1c-1d) through one ISP run, and their
 // roles: the block-extent rows C (and optional per-arc bounds) from the start; the simple rows
 // (links, regions), held aside until one is first violated and then activated all at once

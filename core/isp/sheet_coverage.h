@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The (bundle, direction) checks of the greedy passes that a non-improving sheet already answered
 // (core/README.md, section Covered checks).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Proves a sheet request infeasible without solving its LP, by bound propagation (core/README.md,
 // section Refutation without an LP).
 //

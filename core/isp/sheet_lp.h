@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The linear-program interface the integer-sheet LPs (paper App. A) are written against
 // (core/README.md, sections Sheet LPs and LP back ends).
 //
@@ -65,6 +66,13 @@ class LpRowBatch {
 
 enum class LpOutcome : uint8_t { kOptimal, kInfeasible };
 
+// What a back end did since it was made, for the run's statistics (core/quantize_result.h).
+struct SheetLpCounters {
+  int64_t pivots = 0;
+  int64_t refactorizations = 0;
+  int64_t fallback_solves = 0;  // solves a back end handed to another solver
+};
+
 // A minimization LP over num_columns() columns that is edited in place between solves. New
 // columns start with bounds [0, +inf) and objective coefficient 0.
 class SheetLp {
@@ -89,6 +97,7 @@ class SheetLp {
   virtual absl::StatusOr<LpOutcome> Solve() = 0;
   // Column values of the last solve that returned kOptimal.
   virtual std::span<const double> column_values() const = 0;
+  virtual SheetLpCounters counters() const { return {}; }
   // Appends the columns whose value in column_values() is non-zero, in any order (back ends that
   // track them answer without scanning every column).
   virtual void AppendNonzeroColumns(std::vector<int32_t>* columns) const {

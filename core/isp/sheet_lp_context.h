@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The state all subproblem LPs of one quantization run share (core/isp/sheet_subproblem.h): the
 // quantization, the inequality rows and the consistency rows they are written over, the LP
 // factory, and the maps from bundles and rows to their places in their subproblem's LP. The

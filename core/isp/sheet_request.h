@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What one sheet LP solve asks for (paper App. A, C): the root and the direction it is pumped in
 // (eqs. 7e/7f) or none for a separating solve, the weights, the sign restrictions of the mode (eq.
 // 7g and uniform-sign sheets), and the bundles blocked in one direction or pinned to a value for
@@ -16,6 +17,7 @@ namespace ispq {
 enum class WeightScheme : uint8_t {
   kTiered,        // eq. 4
   kMarginalCost,  // the bundles' exact objective change per unit (core/isp/sheet_weights.h)
+  kUnitCost,      // the same, unfloored: negative for a move that improves (unit_moves)
 };
 
 struct SheetRequest {
@@ -28,6 +30,10 @@ struct SheetRequest {
   std::span<const std::pair<BundleId, bool>> blocked;
   // Bundles whose change is fixed to the given integer in this solve.
   std::span<const std::pair<BundleId, int64_t>> fixed;
+  // A descent step over the whole subproblem (IntegerSheetPump's bulk descent): no root, every
+  // bundle moves by at most one unit, priced by its exact objective change (kUnitCost), so the
+  // LP's optimum is the best combination of unit moves, and a negative optimum an improvement.
+  bool unit_moves = false;
 };
 
 }  // namespace ispq

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/sheet_step.h"
 
 #include <algorithm>
@@ -54,8 +55,13 @@ absl::StatusOr<bool> SheetStepFinder::Find(SheetSubproblem& subproblem, const Sh
 absl::StatusOr<bool> SheetStepFinder::SolveRational(SheetSubproblem& subproblem,
                                                     const SheetRequest& request) {
   const int64_t calls = subproblem.solver_calls();
+  const SheetLpCounters before = subproblem.lp_counters();
   absl::StatusOr<bool> feasible = subproblem.Solve(request, &rational_);
   stats_.lp_solves += subproblem.solver_calls() - calls;
+  const SheetLpCounters& after = subproblem.lp_counters();
+  stats_.lp_pivots += after.pivots - before.pivots;
+  stats_.lp_refactorizations += after.refactorizations - before.refactorizations;
+  stats_.lp_fallback_solves += after.fallback_solves - before.fallback_solves;
   if (!feasible.ok()) return feasible.status();
   if (!*feasible || rational_.bundles.empty()) return false;
   // Paper Fig. 8 counts the denominators of every rational solution computed.

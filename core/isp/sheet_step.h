@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One step of the pump (paper Alg. 2 and 3): the rational vertex of a subproblem's sheet LP made
 // into an integer sheet, checked against the active rows, with its best integer multiplicity along
 // the convex objective (core/README.md, section From a rational vertex to an integer step).

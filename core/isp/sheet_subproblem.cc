@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/sheet_subproblem.h"
 
 #include <algorithm>
@@ -112,10 +113,19 @@ void SheetSubproblem::PushRowBounds(int32_t r) {
 
 void SheetSubproblem::PushWeights(BundleId b) {
   const BundleQuantization& x = *context_->quantization;
-  const BundleWeights w =
-      weights_ == WeightScheme::kTiered
-          ? BundleSheetWeights(x.targets(b), static_cast<double>(x.value(b)), context_->num_arcs)
-          : BundleMarginalWeights(x.targets(b), static_cast<double>(x.value(b)), 1e-3);
+  const double value = static_cast<double>(x.value(b));
+  BundleWeights w;
+  switch (weights_) {
+    case WeightScheme::kTiered:
+      w = BundleSheetWeights(x.targets(b), value, context_->num_arcs);
+      break;
+    case WeightScheme::kMarginalCost:
+      w = BundleMarginalWeights(x.targets(b), value, 1e-3);
+      break;
+    case WeightScheme::kUnitCost:
+      w = BundleUnitCosts(x.targets(b), value);
+      break;
+  }
   const int32_t i = context_->local_index_of_bundle[b];
   lp_->SetObjectiveCoefficient(2 * i, w.inflate);
   lp_->SetObjectiveCoefficient(2 * i + 1, w.deflate);
@@ -144,6 +154,7 @@ void SheetSubproblem::SetMode(bool allow_inflation, bool allow_deflation) {
 
 absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, RationalSheet* sheet) {
   PushPendingEdits(request.weights);
+  if (request.unit_moves) return SolveUnitMoves(request, sheet);
   if (!SetRequestBounds(request)) return false;
   if (context_->refute_by_propagation && infeasibility_.Refutes(request)) {
     ++refuted_requests_;
@@ -159,6 +170,21 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   ResetAllColumnPairs();
   SetRequestBounds(request);
   optimal = RunSolver();
+  if (optimal.ok() && *optimal) ReadSheet(sheet);
+  cap_ = UsualCap();
+  ResetAllColumnPairs();
+  return optimal;
+}
+
+absl::StatusOr<bool> SheetSubproblem::SolveUnitMoves(const SheetRequest& request,
+                                                     RationalSheet* sheet) {
+  // The box of one unit is the request itself, not a cap that could cut off an answer: no repeat
+  // without it. Every column pair is reset twice, O(bundles), which the descent's few solves
+  // over the whole subproblem can afford.
+  cap_ = 1;
+  ResetAllColumnPairs();
+  bool feasible = SetRequestBounds(request);
+  absl::StatusOr<bool> optimal = feasible ? RunSolver() : absl::StatusOr<bool>(false);
   if (optimal.ok() && *optimal) ReadSheet(sheet);
   cap_ = UsualCap();
   ResetAllColumnPairs();
@@ -219,7 +245,12 @@ bool SheetSubproblem::SetRequestBounds(const SheetRequest& request) {
 
 absl::StatusOr<bool> SheetSubproblem::RunSolver() {
   ++solver_calls_;
+  const SheetLpCounters before = lp_->counters();
   const absl::StatusOr<LpOutcome> outcome = lp_->Solve();
+  const SheetLpCounters after = lp_->counters();
+  lp_counters_.pivots += after.pivots - before.pivots;
+  lp_counters_.refactorizations += after.refactorizations - before.refactorizations;
+  lp_counters_.fallback_solves += after.fallback_solves - before.fallback_solves;
   if (!outcome.ok()) return outcome.status();
   return *outcome == LpOutcome::kOptimal;
 }

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The sheet LP of one independent subproblem (paper App. A with the decomposition of section 4.4),
 // built once and then edited in place between solves (core/README.md, section Sheet LPs).
 //
@@ -74,6 +75,8 @@ class SheetSubproblem {
   // column cap lifted, and how many requests bound propagation refuted without the solver
   // (core/isp/sheet_infeasibility.h).
   int64_t solver_calls() const { return solver_calls_; }
+  // What the LP back ends of this subproblem did in its solves (its LP may have been rebuilt).
+  const SheetLpCounters& lp_counters() const { return lp_counters_; }
   int64_t uncapped_solves() const { return uncapped_solves_; }
   int64_t refuted_requests() const { return refuted_requests_; }
 
@@ -91,6 +94,8 @@ class SheetSubproblem {
   void PushPendingEdits(WeightScheme weights);
   // Sets the column bounds a request asks for; false if it is infeasible on its face.
   bool SetRequestBounds(const SheetRequest& request);
+  // A request for unit moves (SheetRequest::unit_moves): every column boxed at one unit.
+  absl::StatusOr<bool> SolveUnitMoves(const SheetRequest& request, RationalSheet* sheet);
   // Runs the solver; true for kOptimal.
   absl::StatusOr<bool> RunSolver();
   // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
@@ -125,6 +130,7 @@ class SheetSubproblem {
   std::vector<int32_t> columns_;          // scratch for AppendRow
   std::vector<double> coefs_;
   int64_t solver_calls_ = 0;
+  SheetLpCounters lp_counters_;
   int64_t uncapped_solves_ = 0;
   int64_t refuted_requests_ = 0;
 };

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The unfavorability weights of the sheet LP objective (paper eq. 3-4, App. A; core/README.md,
 // section Weights).
 //
@@ -57,6 +58,18 @@ inline BundleWeights BundleMarginalWeights(std::span<const double> targets, doub
     w.deflate += std::max(1 - 2 * (value - target), floor);
   }
   return {std::min(w.inflate, kMaxSheetWeight), std::min(w.deflate, kMaxSheetWeight)};
+}
+
+// A bundle's exact objective change for a move of one unit either way: (x + 1 - t)^2 - (x - t)^2
+// = 1 - 2 (t - x) per arc up, 1 - 2 (x - t) down. Negative where the move improves; the two
+// directions sum to twice the arc count, so no solution moves a bundle both ways.
+inline BundleWeights BundleUnitCosts(std::span<const double> targets, double value) {
+  BundleWeights w{0, 0};
+  for (double target : targets) {
+    w.inflate += 1 - 2 * (target - value);
+    w.deflate += 1 - 2 * (value - target);
+  }
+  return w;
 }
 
 }  // namespace ispq

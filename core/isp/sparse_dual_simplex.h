@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A bounded dual simplex whose work per solve is proportional to the pivots it makes, for LPs
 // that are solved thousands of times after small edits (the sheet LPs of core/isp/sheet_lp.h).
 //
@@ -219,14 +220,25 @@ class SparseDualSimplex {
   std::vector<uint8_t> is_nonzero_basic_, is_nonzero_nonbasic_;
   // Nonbasic variables whose reduced cost or bounds changed since the last solve.
   std::vector<int32_t> dual_check_;
-  // Basis positions that may be primal infeasible.
+  // Basis positions whose value or weight changed since the leaving row was last chosen, and a
+  // max-heap of the infeasible positions by their leaving score (ChooseLeavingPosition). A
+  // position's entries go stale when it is scored again (its stamp moves on).
   std::vector<int32_t> primal_candidates_;
   std::vector<uint8_t> is_primal_candidate_;
+  struct LeavingCandidate {
+    double score;
+    int32_t variable;
+    int32_t position;
+    uint32_t stamp;
+  };
+  std::vector<LeavingCandidate> leaving_heap_;
+  std::vector<uint32_t> leaving_stamp_;  // by position
   // The pivot row over nonbasic variables: dense by variable, with the touched list.
   std::vector<double> alpha_;
   std::vector<int32_t> alpha_touched_;
 
   int64_t costs_changed_ = 0;  // since the last solve
+  int unboxed_columns_;        // columns with an infinite bound
   int64_t iterations_ = 0;
   int64_t refactorizations_ = 0;
 };

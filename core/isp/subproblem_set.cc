@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/isp/subproblem_set.h"
 
 #include <algorithm>
@@ -98,6 +99,14 @@ std::vector<int32_t> SubproblemSet::WithViolatedRows() const {
   }
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  return ids;
+}
+
+std::vector<int32_t> SubproblemSet::Ids() const {
+  std::vector<int32_t> ids;
+  for (int32_t id = 0; id < static_cast<int32_t>(subproblems_.size()); ++id) {
+    if (subproblems_[id] != nullptr) ids.push_back(id);
+  }
   return ids;
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The subproblems of one ISP run (paper section 4.4; core/README.md, section Bundles and
 // subproblems) and their sheet LPs.
 //
@@ -43,8 +44,9 @@ class SubproblemSet {
   // Ids of the subproblems with a violated active row, ascending.
   std::vector<int32_t> WithViolatedRows() const;
   SheetSubproblem& at(int32_t id) { return *subproblems_[id]; }
-  // Subproblems left after merging.
+  // Subproblems left after merging, and their ids, ascending.
   int count() const;
+  std::vector<int32_t> Ids() const;
 
   // Row r changed activity: refreshes it in its LP and returns true, or returns false if it is
   // in no LP yet (it must be attached).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/proto/block_from_proto.h"
 
 #include <array>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding one block of an ispq.v1.TMesh message into a BlockInput (core/tmesh_input.h): its
 // corners, edges and faces by their keys, its halfpatches, its arcs by direction and its nodes'
 // block coordinates. Checks what belongs to the encoding (keys, arities, each key once, non-empty

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/proto/mesh_stats_proto.h"
 
 namespace ispq {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // MeshStats as its ispq.v1 message, for the CLI's JSON output and the service's events.
 #ifndef ISPQ_CORE_PROTO_MESH_STATS_PROTO_H_
 #define ISPQ_CORE_PROTO_MESH_STATS_PROTO_H_

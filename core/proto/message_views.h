@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the T-mesh decoders read from a message besides its fields: the ids its element counts
 // make valid, and its repeated fields as spans. The decoders check every id against an IdRanges
 // before handing it on, and hand lists on as views (the builder copies what it keeps).

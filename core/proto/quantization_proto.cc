@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/proto/quantization_proto.h"
 
 #include "absl/status/status.h"
@@ -110,6 +111,9 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   v1::QuantizationStats* stats = proto.mutable_stats();
   stats->set_lp_solves(s.lp_solves);
   stats->set_covered_checks(s.covered_checks);
+  stats->set_lp_pivots(s.lp_pivots);
+  stats->set_lp_refactorizations(s.lp_refactorizations);
+  stats->set_lp_fallback_solves(s.lp_fallback_solves);
   stats->set_sheets_inflating(s.sheets_inflating);
   stats->set_sheets_deflating(s.sheets_deflating);
   stats->set_sheets_mixed(s.sheets_mixed);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Conversions between the ispq.v1 quantization messages (proto/ispq/v1/quantization.proto) and
 // the core types: options in (with the scaling resolved against the mesh), results and progress
 // out. The CLI's local path, its result files and the service all go through these, so a result

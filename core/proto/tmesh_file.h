@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Reading T-mesh messages from files and strings: `*.tmesh.json` through protobuf's JSON
 // mapping or binary protobuf (`*.tmesh.pb`), as proto/README.md, section Encodings, describes.
 //

@@ -1,5 +1,8 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/proto/tmesh_from_proto.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -198,6 +201,53 @@ absl::StatusOr<std::vector<CriticalEntity>> DecodeCriticalEntities(const v1::TMe
   return entities;
 }
 
+const std::array<double, 3>* FindUvw(const TMesh& mesh, BlockId b, NodeId n) {
+  const auto list = mesh.block_node_uvw(b);
+  const auto it = std::lower_bound(list.begin(), list.end(), n,
+                                   [](const BlockNodeUvw& e, NodeId id) { return e.node < id; });
+  return it != list.end() && it->node == n ? &it->uvw : nullptr;
+}
+
+// Each interior patch's transition T(x) = R x + t, where t is given, carries every node of its
+// cycle from its coordinates in the first block's frame to those in the second's. The model keeps
+// only R (the algorithms never need t), so this is the decoder's to check, on the built mesh: there
+// every cycle arc is known to lie on both blocks, with coordinates for both of its nodes. The
+// tolerance is the builder's for coordinates, relative to the largest coordinate involved (at
+// least 1). The format lets t be omitted (proto/README.md, section Transitions): then there is
+// nothing to check it against, and compact files (the benchmark's largest meshes) leave it out.
+absl::Status CheckTranslations(const v1::TMesh& proto, const TMesh& mesh, double tolerance) {
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
+    const BlockId b0 = mesh.patch_block(p, 0), b1 = mesh.patch_block(p, 1);
+    if (b0 == kNoId || b1 == kNoId) continue;
+    const auto& translation = proto.patches(p).transition().translation();
+    if (translation.size() != 3) continue;  // omitted (the header checks for 0 or 3 entries)
+    const std::array<double, 3> t = {translation[0], translation[1], translation[2]};
+    for (HalfarcId h : mesh.patch_cycle(p)) {
+      const NodeId n = mesh.tail(h);
+      const std::array<double, 3>* from = FindUvw(mesh, b0, n);
+      const std::array<double, 3>* to = FindUvw(mesh, b1, n);
+      if (!from || !to) {
+        return InvalidArgument("patch ", p, ": node ", n, " has no coordinates in block ",
+                               from ? b1 : b0);
+      }
+      std::array<double, 3> image = mesh.patch_rotation(p).Apply(*from);
+      double scale = 1.0;
+      for (int i = 0; i < 3; ++i) {
+        image[i] += t[i];
+        scale = std::max({scale, std::abs(image[i]), std::abs((*to)[i])});
+      }
+      for (int i = 0; i < 3; ++i) {
+        if (std::abs(image[i] - (*to)[i]) > tolerance * scale) {
+          return InvalidArgument("patch ", p, ": transition translation [", absl::StrJoin(t, ","),
+                                 "] does not carry node ", n, " from its coordinates in block ", b0,
+                                 " to those in block ", b1);
+        }
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
@@ -211,7 +261,9 @@ absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
   for (const v1::Level& level : proto.levels()) {
     ISPQ_RETURN_IF_ERROR(builder.AddLevel({level.percent(), level.scaling()}));
   }
-  return std::move(builder).Build();
+  ISPQ_ASSIGN_OR_RETURN(TMesh mesh, std::move(builder).Build());
+  ISPQ_RETURN_IF_ERROR(CheckTranslations(proto, mesh, options.length_tolerance));
+  return mesh;
 }
 
 }  // namespace ispq

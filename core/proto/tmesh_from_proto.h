@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Decoding an ispq.v1.TMesh message into the core TMesh model: the only way a mesh from a file
 // or a request enters core/.
 //
@@ -6,7 +7,9 @@
 // empty block edge or face), direction, corner and edge keys (each once) and enum values, finite
 // numbers the model does not keep, and above all that every id is in range, before anything is
 // indexed by it. Blocks are decoded by core/proto/block_from_proto.h. It hands each element to
-// TMeshBuilder (core/tmesh_builder.h), which checks every rule of the model and builds the mesh.
+// TMeshBuilder (core/tmesh_builder.h), which checks every rule of the model and builds the mesh;
+// then it checks the one rule about what the model does not keep: each interior patch's
+// transition translation carries its nodes' coordinates in one block onto those in the other.
 // A rejected mesh yields INVALID_ARGUMENT naming the offending element and the rule it breaks
 // (e.g. "patch 12: ..."). Hostile input (ids of 2^31, NaN lengths, truncated lists) is rejected
 // before anything is allocated from it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Deadlines for the parts of a request that a client sends: its head must have arrived within
 // HttpLimits::head_deadline of its connection (or of the end of its previous request on the same
 // connection), and its body within body_deadline of its head, however slowly the bytes trickle

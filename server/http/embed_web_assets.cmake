@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Writes a C++ source holding the web view's files (server/http/web_assets.h), so that the
 # server binary serves them with no installed directory and nothing fetched at build time.
 # Run by the build as: cmake -DOUTPUT=<file.cc> -DWEB_DIR=<dir> -DFILES=a.html,b.js -P <this>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // GET /v1/jobs/{id}:watch: a job's events as server-sent events (text/event-stream), the same
 // events as gRPC's WatchJob, from the same log (server/http/job_event_feed.h):
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The server-sent-event streams open on the HTTP side: at most a configured number at once (each
 // holds a job watcher, a connection and the bytes in flight; none holds a thread: a stream with
 // nothing to write is parked, server/http/job_event_feed.h), woken every second so that a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A few threads of the HTTP side's own that run the routes which may wait (on the job store) or
 // work for long (converting a large body), so that the event thread that reads and writes every
 // connection never does (server/http/http_router.h). Tasks run in the order posted; tasks still

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Request and response helpers shared by the HTTP routes: who the caller is (the same bearer
 // tokens and principals as gRPC: `Authorization: Bearer <token>`, or `access_token=<token>` in
 // the query for the browser's EventSource, which cannot set headers), and answers as protobuf

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One request of the HTTP side and its answer, as the routes see them, apart from the library that
 // carries them (server/http/http_server.h): the request is complete (its head checked, its body
 // received within the bounds, its caller authenticated where the route needs one) before a route

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the HTTP side works with: the same service, authenticator, memory budget and metrics as
 // the gRPC side (everything owned by QuantizerServer, which outlives the HTTP server), and the
 // server's liveness and readiness as the gRPC health service reports them; and its bounds, which

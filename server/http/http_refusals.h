@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The requests the HTTP side refused before their route ran (from the head's checks, or as the
 // body passed its limit or the memory budget), counted by HTTP status for /metrics: how often
 // and how a server is being sent what it does not take. Thread-safe.

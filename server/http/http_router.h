@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The routes of the HTTP side and how each is served. A route says, before anything of the
 // request's body is read, whether it takes a body, whether its caller must be authenticated,
 // whether any Host may ask for it, and on which threads it runs (its lane): only what is cheap

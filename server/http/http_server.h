@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The HTTP side of ispq-server (--http_listen): it serves the JSON API over jobs
 // (server/http/job_routes.h), job events as server-sent events (server/http/event_stream_route.h),
 // the operator endpoints /healthz, /readyz and /metrics (server/http/operator_routes.h) and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The one place where the server's absl::Status becomes what an HTTP client sees, as the
 // google.api HTTP rules map gRPC codes (INVALID_ARGUMENT 400, UNAUTHENTICATED 401, NOT_FOUND
 // 404, RESOURCE_EXHAUSTED 429, UNAVAILABLE 503...), with a google.rpc.Status-like JSON body

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A job's events for a server-sent-event stream (server/http/event_stream_route.h): the
 // counterpart of server/job_event_stream.h for a stream that no thread waits on. The stream's
 // writer reads the job's log exactly as a gRPC stream does (Job::NextForStream: the same events,

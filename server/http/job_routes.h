@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The JSON API over jobs, each route one call of the transport-neutral QuantizerService
 // operations (server/quantizer_service.h), so that it has the gRPC method's semantics and errors:
 //

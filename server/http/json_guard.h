@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What a JSON request body must be before protobuf's JSON parser sees it. That parser recurses
 // once per level of nesting and builds its own tree of what it reads, so a body of a few MB of
 // `[` costs hundreds of MB and much stack before it is refused; it also takes raw NUL bytes and

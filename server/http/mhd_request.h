@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A request's head as libmicrohttpd has parsed it, copied into an HttpRequest
 // (server/http/http_message.h): the copy stays valid while the connection is suspended and the
 // request is read on another thread, and the checks of server/http/request_framing.h and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // An HttpResponse (server/http/http_message.h) handed to libmicrohttpd. A held body is given
 // over without a copy and freed with its memory reservation once sent; a streamed body is asked
 // for its next bytes whenever the connection can take them, and suspends the connection while it

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What operators and orchestrators poll, unauthenticated and plaintext even when gRPC uses TLS
 // (as gRPC's health service stays open): GET /healthz (liveness: 200 until shutdown begins, then
 // 503), GET /readyz (readiness: 200 while the server would accept a new job, 503 while it would

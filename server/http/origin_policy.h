@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Which Host and Origin a request may come with, against DNS rebinding and cross-site request
 // forgery. A page on any site can make a browser send a "simple" POST (a form, or fetch with
 // Content-Type text/plain) to this server and, after rebinding its own name to this server's

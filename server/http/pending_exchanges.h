@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The requests handed to a route on a pool whose answer has not come yet (their connections
 // suspended, server/http/request_exchange.h). The server answers for the route when it takes
 // longer than its deadline (504 with the route's timeout message: the route's work is abandoned,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The server's stats (GetServerStats' ispq.v1.ServerStats) in the Prometheus text exposition
 // format 0.0.4, for GET /metrics: gauges of the present (jobs by state, queue length, busy
 // workers, memory budget use by kind, readiness), counters since the start (accepted jobs,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Protobuf's JSON mapping for the HTTP side: responses and events are the API's messages printed
 // as JSON (lowerCamelCase names, enums by name, 64-bit integers as strings, zeros printed as the
 // CLI's result files have them), and request bodies are converted from JSON straight to the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Query parameters of the JSON API, parsed into the fields of the request messages they stand
 // for; a malformed value is INVALID_ARGUMENT naming the parameter and what it accepts.
 #ifndef ISPQ_SERVER_HTTP_QUERY_PARAMS_H_

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A request body as it arrives, held within its limit and the memory budget at every byte: a
 // declared length is reserved in the budget whole before the first byte is read, a chunked body
 // in growing steps as its bytes come, so that a body is refused at the byte that would pass

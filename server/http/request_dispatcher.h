@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the event thread does with each request libmicrohttpd reads (its request callback): once
 // the head is in, it checks everything that can be checked before the body is read, in this
 // order, and answers a refusal at once (libmicrohttpd then closes the connection without reading

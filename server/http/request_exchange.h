@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One request on one libmicrohttpd connection, from its head to its answer: the request as the
 // route sees it, its body as it arrives (server/http/request_body.h), its route, and the answer.
 // A route on the event thread answers at once; a route on a pool answers later from its thread,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The checks of a request's head that decide, before any byte of its body is read, whether and
 // how the body is read. The request target and the header lines are bounded (414 and 431); a
 // body must say how long it is or come chunked (411), be no longer than the limit (413), be

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every suspend and resume of a libmicrohttpd connection by the HTTP side goes through here, so
 // that the server knows how many are suspended: libmicrohttpd aborts the process when it is
 // stopped with a connection still suspended, so the server stops it only once none is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The web view's static files (server/http/web/), compiled into the server by
 // server/http/embed_web_assets.cmake: the page works with nothing installed next to the binary
 // and loads nothing from the network (no CDN, no build step that downloads).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The live web view: GET / serves index.html, GET /<file> the page's other files
 // (server/http/web_assets.h). The page itself only talks to the JSON API and the event streams,
 // with the same authentication as any client. The files are served on the event thread, from

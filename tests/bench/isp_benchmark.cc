@@ -1,4 +1,5 @@
-// The quantization benchmark: every shared T-mesh at all 8 resolution levels (or some),
+// SPDX-License-Identifier: Apache-2.0
+// The quantization benchmark: every real T-mesh at all 8 resolution levels (or some),
 // single-threaded, in-process, with ISP or exact mode. Writes one TSV row per run (and, with
 // --trace_out, the anytime curve of every run) and prints a one-screen summary: time (median,
 // max, total), validity, objective ratios to the upstream reference (ISP and exact IQP), lower
@@ -33,7 +34,8 @@
 
 ABSL_FLAG(std::string, out, "bench.tsv", "TSV file with one row per run");
 ABSL_FLAG(std::string, filter, "", "only models whose name contains this");
-ABSL_FLAG(std::string, reference_dir, "", "directory of the reference TSVs (default: shared)");
+ABSL_FLAG(std::string, reference_dir, "",
+          "directory of the reference TSVs (default: tests/data/reference)");
 ABSL_FLAG(bool, compare_mixed_sign, false, "also run with mixed-sign sheets off and compare");
 ABSL_FLAG(bool, compare_reference_search, false,
           "also run certifying with the reference's search alone and compare");
@@ -361,11 +363,11 @@ int main(int argc, char** argv) {
   absl::ParseCommandLine(argc, argv);
   using namespace ispq;
   std::vector<std::string> files;
-  for (const std::string& f : testing::SharedTMeshFiles()) {
+  for (const std::string& f : testing::RealTMeshFiles()) {
     if (absl::StrContains(f, absl::GetFlag(FLAGS_filter))) files.push_back(f);
   }
   if (files.empty()) {
-    std::cerr << "no T-meshes found under " << testing::SharedTMeshDir() << "\n";
+    std::cerr << "no T-meshes found under " << testing::RealTMeshDir() << "\n";
     return 1;
   }
   absl::StatusOr<bench::BenchConfig> config = bench::ConfigFromFlags();
@@ -374,7 +376,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::string reference_dir = absl::GetFlag(FLAGS_reference_dir);
-  if (reference_dir.empty()) reference_dir = testing::SharedTMeshDir() + "/../../reference";
+  if (reference_dir.empty()) reference_dir = testing::ReferenceResultsDir();
   const bench::ReferenceResults reference = bench::ReferenceResults::Load(reference_dir);
 
   const std::vector<bench::Run> runs = bench::RunAll(files, *config);

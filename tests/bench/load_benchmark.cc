@@ -1,4 +1,5 @@
-// Load-time benchmark: for every shared T-mesh, the time to parse its JSON, to parse the same
+// SPDX-License-Identifier: Apache-2.0
+// Load-time benchmark: for every real T-mesh, the time to parse its JSON, to parse the same
 // message as binary protobuf, and to validate and build the core model; plus the problem counts
 // (arcs, bundles, subproblems). Writes a TSV and prints a summary.
 //
@@ -53,7 +54,7 @@ int main(int argc, char** argv) {
   std::vector<int> arcs, bundles, subproblems;
   size_t largest_bytes = 0;
   std::string largest_line;
-  for (const std::string& file : ispq::testing::SharedTMeshFiles()) {
+  for (const std::string& file : ispq::testing::RealTMeshFiles()) {
     const std::string json = *ispq::ReadFileToString(file, ispq::kMaxTMeshFileBytes);
     const ispq::v1::TMesh proto = *ispq::ParseTMeshJson(json);
     const std::string binary = proto.SerializeAsString();

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The anytime curve of one run for the benchmark report (paper Figs. 10 and 11): every time the
 // best valid objective or the proven lower bound improves, the time and both values. ISP reports
 // a valid q whenever its last separation search came back empty (ProgressEvent::separating);

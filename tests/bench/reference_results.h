@@ -1,5 +1,6 @@
-// The upstream research implementation's results on the shared T-meshes
-// (shared/reference/qgp3d-isp.tsv and qgp3d-iqp-all.tsv), keyed by model and level, so the
+// SPDX-License-Identifier: Apache-2.0
+// The upstream research implementation's results on the real T-meshes
+// (tests/data/reference/qgp3d-isp.tsv and qgp3d-iqp-all.tsv), keyed by model and level, so the
 // benchmark can report ratios against them.
 #ifndef ISPQ_TESTS_BENCH_REFERENCE_RESULTS_H_
 #define ISPQ_TESTS_BENCH_REFERENCE_RESULTS_H_

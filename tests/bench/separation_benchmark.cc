@@ -1,4 +1,5 @@
-// Separation-search benchmark: time per FindViolations call on every shared T-mesh for two kinds
+// SPDX-License-Identifier: Apache-2.0
+// Separation-search benchmark: time per FindViolations call on every real T-mesh for two kinds
 // of consistent q (near the targets, and sparse with many zero arcs, which makes many
 // violations). Writes a TSV and prints a summary.
 //
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
   std::ofstream out(absl::GetFlag(FLAGS_out));
   out << "model\tarcs\tq\tmicroseconds_per_call\tviolations\n";
   std::vector<double> micros_all;
-  for (const std::string& file : ispq::testing::SharedTMeshFiles()) {
+  for (const std::string& file : ispq::testing::RealTMeshFiles()) {
     const ispq::TMesh mesh = ispq::testing::LoadTMeshOrDie(file);
     const ispq::testing::ConsistentQuantizations quantizations(mesh);
     ispq::SeparationSearch search(mesh);

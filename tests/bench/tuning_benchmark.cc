@@ -1,4 +1,5 @@
-// The effect of each choice of the ISP engine's tuning (core/isp/isp_tuning.h): every shared
+// SPDX-License-Identifier: Apache-2.0
+// The effect of each choice of the ISP engine's tuning (core/isp/isp_tuning.h): every real
 // T-mesh at all 8 levels with the defaults, then with one choice switched back at a time, each
 // result checked by the validator. Prints, per variant, the mean and total objective ratio to the
 // reference ISP results, the change from the defaults, LP solves and CPU time; the comments in
@@ -21,7 +22,8 @@
 #include "tests/support/test_data.h"
 
 ABSL_FLAG(std::string, filter, "", "only models whose name contains this");
-ABSL_FLAG(std::string, reference_dir, "", "directory of the reference TSVs (default: shared)");
+ABSL_FLAG(std::string, reference_dir, "",
+          "directory of the reference TSVs (default: tests/data/reference)");
 
 namespace ispq::bench {
 namespace {
@@ -85,11 +87,11 @@ Totals RunVariant(const Variant& variant, const std::vector<std::string>& files,
 
 int Run() {
   const std::string dir = absl::GetFlag(FLAGS_reference_dir).empty()
-                              ? testing::SharedTMeshDir() + "/../../reference"
+                              ? testing::ReferenceResultsDir()
                               : absl::GetFlag(FLAGS_reference_dir);
   const ReferenceResults reference = ReferenceResults::Load(dir);
   std::vector<std::string> files;
-  for (const std::string& f : testing::SharedTMeshFiles()) {
+  for (const std::string& f : testing::RealTMeshFiles()) {
     if (absl::StrContains(f, absl::GetFlag(FLAGS_filter))) files.push_back(f);
   }
   const std::vector<Variant> variants = {

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Offline checks of the Kubernetes manifests in deploy/kubernetes.
 
 Renders every overlay with `kubectl kustomize` (the kubectl the machines carry; without it the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writes the quantizations the differential harness checks on one T-mesh (README.md here), one
 // JSON object per line: {"kind", "scaling", "q"}. Kinds:
 //   final         ISP's result at a scaling (the 8 levels, then `random_scalings` log-uniform

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Differential testing of ispq's validator against the upstream implementation's own checks.
 
 For every T-mesh given, ispq_differential_instances writes many quantizations (ISP results at
@@ -7,8 +8,8 @@ perturbations, the layered q of core/isp/parametric_layers.h). Each q is then ju
 
   ours      the product's verdict (ispq_separation_dump: consistency, simple rows, both searches)
   ours_ref  our search in reference-compatibility mode alone (unsorted block boxes)
-  upstream  `oracle validate` (../shared/oracle): upstream's consistency, block-extent, simple
-            and separation checks, run by upstream's own code
+  upstream  `oracle validate` (the upstream oracle, see below): upstream's consistency,
+            block-extent, simple and separation checks, run by upstream's own code
 
 and every disagreement is classified:
 
@@ -22,15 +23,22 @@ With --compare-isp it also runs upstream's ISP (`oracle isp`) at every scaling o
 and writes quality.tsv: both objectives, their ratio, and whether each side's q passes the other
 side's checks.
 
-Run by hand (CI cannot build the oracle), e.g.
+A documented by-hand tool, and the one part of the repository that uses things outside the
+checkout: the oracle is a small driver over the upstream research code (QGP3D a88370f, MC3D
+c492ebd) that is built apart from this repository (in the development setup it lives in
+../shared/oracle, beside the checkout) from upstream's sources, which are not Debian packages,
+and it rebuilds each motorcycle complex from MC3D-samples' .hexex files, which are not bundled
+either. So CI cannot run it, the test command does not, and the check that nothing refers
+outside the checkout (tests/deploy/check_standalone.py) exempts this folder. Run it by hand,
+e.g. on the bundled real set:
 
   tests/differential/run_differential.py --oracle ~/oracle/oracle \\
-      --samples ~/oracle/src --out /tmp/diff ../shared/data/tmesh/*/*.tmesh.json
+      --samples ~/oracle/src --out /tmp/diff tests/data/tmesh/*/*.tmesh.json
   tests/differential/run_differential.py --oracle ~/oracle/oracle --out /tmp/diff-ext \\
       --hexex-dir ~/oracle/src/MC3D/tests/resources ~/ext/*.tmesh.json
 
 --hexex-dir names where the .hexex of a T-mesh exported from outside MC3D-samples lives
-(<dir>/<name>.hexex); files of the shared set find theirs through --samples.
+(<dir>/<name>.hexex); files of the real set find theirs through --samples.
 """
 
 import argparse
@@ -186,8 +194,9 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("tmesh", nargs="+")
-    parser.add_argument("--oracle", required=True, help="the oracle wrapper (shared/oracle)")
-    parser.add_argument("--samples", help="folder containing MC3D-samples/ (shared set)")
+    parser.add_argument("--oracle", required=True,
+                        help="the upstream oracle's driver (built outside the repository)")
+    parser.add_argument("--samples", help="folder containing MC3D-samples/ (real set)")
     parser.add_argument("--hexex-dir", help="folder of <name>.hexex for other T-meshes")
     parser.add_argument("--ours", default=os.path.join(build, "ispq_separation_dump"))
     parser.add_argument("--instances", default=os.path.join(build, "ispq_differential_instances"))

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Prints what ispq's separation search finds on one quantization, one JSON object per violation,
 // for the differential harness (tests/differential/README.md), which compares it with the
 // upstream implementation's rows on the same q.

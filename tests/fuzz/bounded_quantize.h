@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What every fuzz target does with a mesh that passed the loader: quantize it within a small
 // time limit at the requested options and hold the result to the validator. A crash, a sanitizer
 // report or a result that calls itself valid but is not (trap) is a finding.

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: Apache-2.0
 // Writes the seed corpus of quantize_request_fuzzer: one binary ispq.v1.QuantizeRequest per
-// shared T-mesh of at most kMaxArcsToQuantize arcs and scaling (levels 0, 50 and 100, a factor
+// real T-mesh of at most kMaxArcsToQuantize arcs and scaling (levels 0, 50 and 100, a factor
 // and a target hex count), into the directory given as the only argument.
 #include <fstream>
 #include <iostream>
@@ -15,7 +16,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   int written = 0;
-  for (const std::string& file : ispq::testing::SharedTMeshFiles()) {
+  for (const std::string& file : ispq::testing::RealTMeshFiles()) {
     const ispq::v1::TMesh mesh = ispq::testing::LoadProtoOrDie(file);
     if (mesh.arcs_size() > ispq::fuzz::kMaxArcsToQuantize) continue;
     for (int variant = 0; variant < 5; ++variant) {

@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: the bytes of an ispq.v1.QuantizeRequest, as the server receives them,
 // through parsing, the loader, the options (scaling resolution, limits) and a bounded
-// quantization. Seeded with requests for the shared T-meshes (ispq_fuzz_seeds).
+// quantization. Seeded with requests for the real T-meshes (ispq_fuzz_seeds).
 #include <cstddef>
 #include <cstdint>
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Builds the libFuzzer targets (the `fuzz` preset: clang, ASan, UBSan) and runs each for a bounded
-# time, seeded with the shared T-meshes and the bundled samples. The test command runs it with
+# time, seeded with the real T-meshes of tests/data/tmesh. The test command runs it with
 # 30 s per target; run it longer by hand, e.g. `tests/fuzz/run_fuzzers.sh 3600`.
 #
 #   tests/fuzz/run_fuzzers.sh [SECONDS_PER_TARGET]   (default 30)
@@ -17,7 +18,7 @@ cmake --build --preset fuzz -j 2
 
 out=build/fuzz
 mkdir -p "$out/corpus/tmesh_json" "$out/corpus/quantize_request" "$out/findings" "$out/seeds"
-cp -n ../shared/data/tmesh/*/*.tmesh.json tests/data/*.tmesh.json "$out/seeds/" 2>/dev/null || true
+cp tests/data/tmesh/*/*.tmesh.json "$out/seeds/"
 "$out/tests/fuzz/ispq_fuzz_seeds" "$out/corpus/quantize_request" >/dev/null
 
 status=0

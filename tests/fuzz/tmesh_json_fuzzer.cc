@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: Apache-2.0
 // libFuzzer target: a T-mesh JSON document (the format of proto/README.md, as read by
 // `ispq quantize FILE`) through the parser, the loader and, if it loads, a bounded quantization
-// at the level picked by the input's length. Seeded with the shared T-meshes.
+// at the level picked by the input's length. Seeded with the real T-meshes.
 #include <cstddef>
 #include <cstdint>
 #include <string_view>

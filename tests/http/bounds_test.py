@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The HTTP side bounded before it trusts anything (issue 24): every attack of the issue's table
 against a live ispq-server with a 256 MiB memory budget, asserting what the server answers, how
 much of an attack it reads and how much memory it takes (its peak resident set, /proc/PID/status),
@@ -84,7 +85,7 @@ class BodyBoundsTest(unittest.TestCase):
 
     def test_the_server_still_serves(self):
         self.assertEqual(self.server.request("GET", "/healthz")[0], 200)
-        job = self.server.submit(ispq.bundled("s07c_notch.tmesh.json"), 10)
+        job = self.server.submit(ispq.bundled("hex-me/s07c_notch.tmesh.json"), 10)
         self.assertEqual(self.server.wait_done(job["name"], timeout=120)["state"], "SUCCEEDED")
 
 

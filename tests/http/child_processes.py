@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Children of a test (servers, browsers) that die with the test process however it ends: a
 failed assertion, an uncaught exception, or SIGKILL from ctest's timeout, where no finally,
 atexit or __exit__ runs. After one failed run, 32 ispq-server processes were left behind."""

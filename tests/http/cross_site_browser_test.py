@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Cross-site requests from a real browser (headless Chromium over the DevTools protocol,
 devtools_pipe.py) against an anonymous ispq-server, as issue 24 found them: a page on another
 origin (a file:// page) posts a job with a text/plain form and with fetch in no-cors mode, and
@@ -53,7 +54,7 @@ def jobs(server):
 class CrossSiteBrowserTest(unittest.TestCase):
     def test_other_origins_cannot_create_jobs_the_own_page_can(self):
         os.makedirs(ispq.ARTIFACTS, exist_ok=True)
-        mesh = ispq.bundled("s07c_notch.tmesh.json").strip()
+        mesh = ispq.bundled("hex-me/s07c_notch.tmesh.json").strip()
         with ispq.Server("--workers=1") as server, Browser() as browser:
             refused = 'ispq_http_refused_total{status="415"}'
             refused_before = server.metric(refused)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A minimal Chrome DevTools Protocol client over --remote-debugging-pipe: headless Chromium reads
 NUL-terminated JSON commands on its fd 3 and writes responses and events on its fd 4, so driving
 it needs neither a websocket library nor a debugging port. Every wait is bounded. The browser dies

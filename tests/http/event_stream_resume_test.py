@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Server-sent events read by a raw HTTP client (http.client, no SSE library): the stream is
 text/event-stream with `id:` lines equal to the events' numbers; a client that hangs up and comes
 back with `Last-Event-ID: n` gets the events after n, exactly those a stream from n + 1 gets, and
@@ -50,7 +51,7 @@ class RawEventStream:
 
 class EventStreamResumeTest(unittest.TestCase):
     def test_last_event_id_resumes_after_a_hang_up(self):
-        notch = json.loads(ispq.bundled("s07c_notch.tmesh.json"))
+        notch = json.loads(ispq.bundled("hex-me/s07c_notch.tmesh.json"))
         mesh = disjoint_copies(notch, 60)
         mesh_path = os.path.join(ispq.ARTIFACTS, "notch_x60.tmesh.json")
         os.makedirs(ispq.ARTIFACTS, exist_ok=True)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Measures the HTTP side under each attack of issue 24's table and prints the figures beside the
 issue's (taken before the HTTP side moved to libmicrohttpd), as a Markdown table; also written to
 $ISPQ_TEST_ARTIFACTS/http_attack_report.md. Each attack runs against a fresh ispq-server with a
@@ -5,7 +6,7 @@ $ISPQ_TEST_ARTIFACTS/http_attack_report.md. Each attack runs against a fresh isp
 issue). Not a test: it asserts nothing (tests/http/bounds_test.py does), it measures.
 
     ISPQ_SERVER_BINARY=build/release/server/ispq-server ISPQ_CLI=build/release/client/ispq \\
-    ISPQ_TEST_DATA=tests/data python3 tests/http/http_attack_report.py [--seconds 30]
+    ISPQ_TEST_DATA=tests/data/tmesh python3 tests/http/http_attack_report.py [--seconds 30]
 """
 import argparse
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Hostile clients of the HTTP side, over raw sockets, as issue 24 tried them: compressed, chunked,
 length-less, oversized and deeply nested bodies; floods of header lines, one endless header or
 request line; hundreds of slow and idle connections while the probes are polled; cross-site and
@@ -137,7 +138,7 @@ def jobs_count(server):
 
 
 def notch_request(level=10):
-    return ('{"mesh":' + ispq.bundled("s07c_notch.tmesh.json") +
+    return ('{"mesh":' + ispq.bundled("hex-me/s07c_notch.tmesh.json") +
             ',"options":{"scaling":{"levelPercent":' + str(level) + '}}}').encode()
 
 
@@ -356,14 +357,14 @@ def slow_and_idle(server, slow=250, slow_bodies=50, idle=300, seconds=30, probe_
     def http_jobs():
         while not stop.is_set():
             try:
-                job = server.submit(ispq.bundled("s07c_notch.tmesh.json"), 10)
+                job = server.submit(ispq.bundled("hex-me/s07c_notch.tmesh.json"), 10)
                 jobs["http_" + server.wait_done(job["name"], timeout=60)["state"]] += 1
             except Exception:  # noqa: BLE001
                 jobs["http_failed"] += 1
             stop.wait(1)
 
     def grpc_jobs():
-        mesh = os.path.join(ispq.DATA, "s07c_notch.tmesh.json")
+        mesh = os.path.join(ispq.DATA, "hex-me/s07c_notch.tmesh.json")
         while not stop.is_set():
             run = subprocess.run([ispq.CLI, "quantize", mesh, "--server", server.address,
                                   "--level", "10", "--json"], capture_output=True, timeout=120)

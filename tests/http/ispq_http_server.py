@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A live ispq-server with its HTTP side on free loopback ports, for the HTTP side's Python tests
 (tests/http). The binaries, the bundled data and the artifact directory come from the
 environment CTest sets (tests/http/CMakeLists.txt). Every wait is bounded. The server dies with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """/metrics, /healthz and /readyz of the HTTP side against a live server: the metrics parse with
 Prometheus' own text-format parser (python3-prometheus-client) and follow what the server does
 (accepted and finished jobs, rejections by reason, histograms, queue, memory); readiness turns
@@ -52,12 +53,12 @@ class MetricsTest(unittest.TestCase):
             self.assertEqual(sample(before, "ispq_ready"), 1)
             self.assertGreater(sample(before, "ispq_memory_budget_bytes"), 0)
 
-            mesh = ispq.bundled("s07c_notch.tmesh.json")
+            mesh = ispq.bundled("hex-me/s07c_notch.tmesh.json")
             names = [server.submit(mesh, level)["name"] for level in (10, 25, 100)]
             for name in names:
                 job = server.wait_done(name)
                 self.assertEqual(job["state"], "SUCCEEDED")
-                verdict = ispq.validate(os.path.join(ispq.DATA, "s07c_notch.tmesh.json"),
+                verdict = ispq.validate(os.path.join(ispq.DATA, "hex-me/s07c_notch.tmesh.json"),
                                         job["result"], job["options"]["scaling"]["levelPercent"])
                 self.assertTrue(verdict.get("valid"), verdict)
             status, _, _ = server.request("POST", "/v1/jobs", body='{"mesh": {"arcs": [{"length": -1}]}}',
@@ -96,12 +97,11 @@ class ProbesTest(unittest.TestCase):
         with ispq.Server("--workers=1", "--max_queued_jobs=1") as server:
             self.assertEqual(server.request("GET", "/healthz")[0], 200)
             self.assertEqual(server.request("GET", "/readyz")[0], 200)
-            # Jobs that are still running when the test acts: of the shared meshes, femur_shell1
+            # Jobs that are still running when the test acts: of the real meshes, femur_shell1
             # costs the most solve time per byte (0.43 s at level 100 for 257 KB), so 20 copies
             # run for several seconds in a request of 5 MB, on any machine and however fast the
             # quantizer becomes (120 copies of the notch took 0.7 s and finished too soon).
-            femur = os.path.join(ispq.DATA, "..", "..", "..", "shared", "data", "tmesh",
-                                 "metamesh-guided-hexalab", FEMUR)
+            femur = os.path.join(ispq.DATA, "metamesh-guided-hexalab", FEMUR)
             with open(femur) as f:
                 long_mesh = json.dumps(disjoint_copies(json.load(f), 20))
             running = server.submit(long_mesh, 100)["name"]

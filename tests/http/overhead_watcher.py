@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """By hand, next to the load test (tests/load): measures what the HTTP side costs. While
 `ispq_load_test` runs, this samples the CPU time of the ispq-server it started (a child of the
 given load-test process) and, with --http_port, also follows the server's jobs over server-sent

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Disjoint copies of a T-mesh in its JSON form, as tests/integration/tmesh_copies.cc makes them:
 larger real meshes whose solves take long enough to be watched, made from a bundled sample."""
 import copy

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The web view in a real browser: headless Chromium (driven over the DevTools protocol,
 devtools_pipe.py) opens the page of a live ispq-server, uploads a T-mesh made of copies of the
 bundled notch sample through the page's form, watches the objective curve appear and grow while
@@ -41,7 +42,7 @@ SHOWN_RESULT = """JSON.stringify({
 class WebViewBrowserTest(unittest.TestCase):
     def test_upload_watch_and_compare_with_the_cli(self):
         os.makedirs(ispq.ARTIFACTS, exist_ok=True)
-        notch = json.loads(ispq.bundled("s07c_notch.tmesh.json"))
+        notch = json.loads(ispq.bundled("hex-me/s07c_notch.tmesh.json"))
         mesh_path = os.path.join(ispq.ARTIFACTS, f"notch_x{COPIES}.tmesh.json")
         with open(mesh_path, "w") as f:
             json.dump(disjoint_copies(notch, COPIES), f)

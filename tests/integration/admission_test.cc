@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The server's limits: a bounded queue that answers RESOURCE_EXHAUSTED with a retry hint,
 // client deadlines that cancel queued and running jobs, the server's own job time limit, and
 // the size limits on meshes and messages. After each refusal the server keeps serving.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq` command line against a real server, as a script would run it: the remote
 // quantize path writes the same result as the local one, the job subcommands (submit, watch,
 // cancel, jobs), health and server-stats, plain progress lines when not on a TTY, and the exit
@@ -74,7 +75,7 @@ class CliTest : public ::testing::Test {
 
 TEST_F(CliTest, RemoteQuantizeWritesTheSameResultAsLocal) {
   ASSERT_NO_FATAL_FAILURE(StartServer({}));
-  const std::string mesh = BundledSample("s07c_notch.tmesh.json");
+  const std::string mesh = RealTMeshPath("hex-me/s07c_notch.tmesh.json");
   const std::string remote_file = TempPath("remote.json");
   const std::string local_file = TempPath("local.json");
   const CommandResult remote =
@@ -103,7 +104,7 @@ TEST_F(CliTest, RemoteQuantizeWritesTheSameResultAsLocal) {
 
 TEST_F(CliTest, SubmitWatchJobsCancelHealthAndStats) {
   ASSERT_NO_FATAL_FAILURE(StartServer({}));
-  const std::string mesh = BundledSample("fanpart.tmesh.json");
+  const std::string mesh = RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json");
   const CommandResult submitted = RunCommand(Ispq("submit " + mesh + server_flag_ + " --level 10"));
   ASSERT_EQ(submitted.exit_code, 0) << submitted.output;
   const std::string job(absl::StripAsciiWhitespace(submitted.output));
@@ -147,7 +148,7 @@ TEST_F(CliTest, SubmitWatchJobsCancelHealthAndStats) {
 
 TEST_F(CliTest, ExitCodesScriptsCanRelyOn) {
   ASSERT_NO_FATAL_FAILURE(StartServer({"--workers=1", "--max_queued_jobs=1"}));
-  const std::string mesh = BundledSample("s07c_notch.tmesh.json");
+  const std::string mesh = RealTMeshPath("hex-me/s07c_notch.tmesh.json");
   // 2: bad command line, checked before anything is sent.
   EXPECT_EQ(RunCommand(Ispq("quantize " + mesh + server_flag_ + " --level 7")).exit_code, 2);
   EXPECT_EQ(RunCommand(Ispq("jobs --state DONE" + server_flag_)).exit_code, 2);
@@ -203,7 +204,7 @@ TEST_F(CliTest, BearerTokenFromTheEnvironment) {
   const std::string token_file = TempPath("cli_token");
   std::ofstream(token_file) << "cli-secret\n";
   ASSERT_NO_FATAL_FAILURE(StartServer({"--auth_token_file=" + token_file}));
-  const std::string mesh = BundledSample("s01c_cube.tmesh.json");
+  const std::string mesh = RealTMeshPath("hex-me/s01c_cube.tmesh.json");
   const CommandResult refused = RunCommand(Ispq("quantize " + mesh + server_flag_ + " --level 1"));
   EXPECT_EQ(refused.exit_code, 5) << refused.output;
   EXPECT_THAT(refused.output, HasSubstr("bearer token"));

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A file through which the child of a death test tells its parent what it started (pids,
 // directories) before it dies, so that the parent can check that those died with it.
 //

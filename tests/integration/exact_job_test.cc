@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact mode through the service and the CLI: a job with METHOD_EXACT on the real server streams
 // progress with the running bound and improving intermediate quantizations and ends OPTIMAL with
 // a valid result better than ISP's; `ispq quantize --method exact` does the same from the command
@@ -22,7 +23,7 @@ namespace {
 using ::testing::HasSubstr;
 
 // n06u_anti_pentapyr at scaling factor 2: small, and exact mode improves on ISP there (26.55
-// against 26.97 per copy; ISP is optimal at every one of the shared set's levels).
+// against 26.97 per copy; ISP is optimal at every one of the real set's levels).
 constexpr char kModel[] = "n06u_anti_pentapyr";
 constexpr double kFactor = 2;
 // Disjoint copies make the job last long enough (ISP about a second) for intermediate
@@ -39,7 +40,7 @@ double ObjectiveOf(const v1::TMesh& mesh, double scaling, const v1::Intermediate
 }
 
 TEST(ExactJobTest, StreamsTheBoundAndImprovementsAndEndsOptimal) {
-  const v1::TMesh mesh = DisjointCopies(SharedMeshNamed(kModel), kCopies);
+  const v1::TMesh mesh = DisjointCopies(RealMeshNamed(kModel), kCopies);
   std::unique_ptr<ServerProcess> server = StartServerOrFail({"--workers=1"});
   ASSERT_NE(server, nullptr);
   client::QuantizerClient client = ClientOf(*server);
@@ -101,7 +102,7 @@ TEST(ExactJobTest, StreamsTheBoundAndImprovementsAndEndsOptimal) {
 
 TEST(ExactJobTest, CommandLineExactModeLocallyAndRemotely) {
   const std::string cli(ISPQ_CLI_PATH);
-  const std::string mesh = BundledSample("s07c_notch.tmesh.json");
+  const std::string mesh = RealTMeshPath("hex-me/s07c_notch.tmesh.json");
   const CommandResult local =
       RunCommand(cli + " quantize " + mesh + " --local --level 50 --method exact");
   ASSERT_EQ(local.exit_code, 0) << local.output;

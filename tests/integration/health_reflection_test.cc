@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Standard gRPC health checking and server reflection, which orchestrators (Kubernetes gRPC
 // probes) and grpcurl rely on. Debian ships no generated stubs for either protocol, so these
 // tests speak them through generic stubs: the health check through the client library

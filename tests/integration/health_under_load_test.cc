@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Health and readiness under load (issue 7): liveness answers within 100 ms while a burst of
 // large requests is being parsed and validated, and readiness (health service "readiness") turns
 // NOT_SERVING while the queue or the memory budget is full, and SERVING again after, while

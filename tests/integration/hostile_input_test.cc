@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Malformed and hostile requests: every one is refused with a precise INVALID_ARGUMENT (or
 // NOT_FOUND for names that are well formed but unknown), nothing crashes, and the server keeps
 // serving real jobs afterwards.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The HTTP side's JSON API (--http_listen, server/http/job_routes.h) against a live server: the
 // same jobs, answers, errors, principals and request ids as the gRPC methods, with gRPC codes
 // mapped to HTTP statuses and google.rpc.Status-like error bodies. Results are checked by the

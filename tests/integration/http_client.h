@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A small HTTP/1.1 client over a plain socket for the tests of the HTTP side: one request per
 // connection (Connection: close), the answer read whole or, for event streams, handed over as
 // it arrives (chunked bodies decoded). Every read and write has a timeout.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Job events as server-sent events (GET /v1/jobs/{id}:watch, server/http/event_stream_route.h)
 // against a live server: the same events as gRPC's WatchJob for the same job, `id:` the event
 // number, resuming after Last-Event-ID, an `end` frame with the final status, a bound on the

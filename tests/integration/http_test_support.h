@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the tests of the HTTP side (--http_listen, server/http/) share: a real ispq-server with
 // its HTTP listener on a free loopback port, a small JSON client (tests/integration/
 // http_client.h), a reader of server-sent-event streams, and protobuf JSON parsing of what the

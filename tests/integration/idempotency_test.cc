@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Idempotent SubmitJob (AIP-155, issue 7): a retried SubmitJob with the same request_id returns
 // the job the first call created, whether that call's answer was lost to a short deadline or
 // not; the same id with a different request is ALREADY_EXISTS; ids are per principal. Before

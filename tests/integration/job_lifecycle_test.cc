@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Jobs as resources: SubmitJob returns at once, the job runs whether or not anyone watches,
 // WatchJob resumes where a stream broke off, GetJob/ListJobs answer about it, CancelJob stops
 // it, and finished jobs stay retrievable within the retention limits.

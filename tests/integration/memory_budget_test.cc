@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The memory budget (--max_memory_bytes) against the memory attacks of issue 7, each on a fresh
 // server with a 512 MiB budget: after every attack the server is alive, still quantizes a normal
 // job, and its peak resident set (VmHWM) stayed under 640 MiB. Measured on the server before the
@@ -263,7 +264,7 @@ TEST_F(MemoryBudgetTest, ListJobsPagesStayWithinWhatClientsAcceptOverManyLargeRe
   ASSERT_NO_FATAL_FAILURE(StartServer());
   // 21k arcs at a fine scaling (two bytes per q, below the limit on hexes): about 40 KB of q per
   // result, so that 110 results make more than one client message (4 MiB) in total.
-  const v1::TMesh mesh = DisjointCopies(SharedMeshNamed("s01b_cube"), 150);
+  const v1::TMesh mesh = DisjointCopies(RealMeshNamed("s01b_cube"), 150);
   const absl::StatusOr<v1::Mesh> stored = client_->CreateMesh(mesh);
   ASSERT_TRUE(stored.ok()) << stored.status();
   v1::QuantizeRequest request = StoredMeshRequest(stored->name(), 100);

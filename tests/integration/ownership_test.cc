@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Principals and ownership (issue 7): with several bearer tokens (--auth_tokens_file) or client
 // certificates (mutual TLS), every job and stored mesh belongs to the principal that created it.
 // Another principal cannot see, watch, cancel or list it, nor delete or use the mesh: it gets

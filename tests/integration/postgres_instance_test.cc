@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The test harness's PostgreSQL (tests/support/postgres_instance.h) does what a fault suite relies
 // on: a frozen instance hangs without closing connections and answers again once thawed; a
 // stopped one refuses connections and a restarted one has its data on the same port; nothing of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The memory a process has used, from /proc/PID/status, for tests that hold the server to its
 // memory budget: VmHWM is the peak resident set size since the process started.
 #ifndef ISPQ_TESTS_INTEGRATION_PROCESS_MEMORY_H_

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Quantize (submit and watch in one call) end to end on real T-meshes: the real server binary,
 // the real client library, events in order, and results the validator accepts that are the
 // same as an in-process solve's.
@@ -23,13 +24,13 @@ using ::testing::ElementsAreArray;
 using ::testing::StartsWith;
 
 struct Instance {
-  std::string model;  // a bundled sample file or a shared model name
+  std::string model;  // a real file ("<dataset>/<file>") or a real model's name
   int level;
 };
 
 v1::TMesh LoadInstance(const Instance& instance) {
-  if (instance.model.ends_with(".tmesh.json")) return LoadProtoOrDie(BundledSample(instance.model));
-  return SharedMeshNamed(instance.model);
+  if (instance.model.ends_with(".tmesh.json")) return LoadProtoOrDie(RealTMeshPath(instance.model));
+  return RealMeshNamed(instance.model);
 }
 
 // The objective d(q) = sum (q - s l)^2 of an intermediate quantization, from its q.
@@ -146,16 +147,17 @@ TEST_P(QuantizeStreamTest, StreamsEventsInOrderAndAValidResult) {
   EXPECT_TRUE(server->WaitForLog("event=job_end job=" + job + " state=SUCCEEDED")) << server->Log();
 }
 
-INSTANTIATE_TEST_SUITE_P(RealTMeshes, QuantizeStreamTest,
-                         ::testing::Values(Instance{"s07c_notch.tmesh.json", 100},
-                                           Instance{"fanpart.tmesh.json", 10},
-                                           Instance{"s04u_tetrahedron.tmesh.json", 1},
-                                           Instance{"2019_-_Selective_Padding_for_Polycube‐Based_"
-                                                    "Hexahedral_Meshing_Wrench",
-                                                    50}),
-                         [](const ::testing::TestParamInfo<Instance>& info) {
-                           return "Instance" + std::to_string(info.index);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    RealTMeshes, QuantizeStreamTest,
+    ::testing::Values(Instance{"hex-me/s07c_notch.tmesh.json", 100},
+                      Instance{"singularity-constrained-fields/fanpart.tmesh.json", 10},
+                      Instance{"hex-me/s04u_tetrahedron.tmesh.json", 1},
+                      Instance{"2019_-_Selective_Padding_for_Polycube‐Based_"
+                               "Hexahedral_Meshing_Wrench",
+                               50}),
+    [](const ::testing::TestParamInfo<Instance>& info) {
+      return "Instance" + std::to_string(info.index);
+    });
 
 TEST(IntermediateQuantizationTest, ALongJobSendsImprovingQuantizationsAtTheRequestedRate) {
   std::unique_ptr<ServerProcess> server = StartServerOrFail({"--workers=1"});

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A unary call with arbitrary bytes as the request, for hostile requests that the typed client
 // cannot express (wire-format tricks, requests larger than building them as messages would
 // allow), with the status and the trailers that came back.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Several ispq-server replicas sharing one PostgreSQL job store (--job_store=postgresql://...),
 // on loopback: a real PostgreSQL started by the test (tests/support/postgres_instance.h) and
 // three real server processes. Jobs submitted to one replica are watched, fetched and cancelled

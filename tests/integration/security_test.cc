@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Transport security and the bearer token: TLS with the server's certificate, mutual TLS that
 // requires a client certificate, and the token check on the Quantizer methods, with health
 // checking left open for orchestrators. Certificates are made fresh with openssl for each test.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The real ispq-server binary, started by a test on a free loopback port and stopped by it.
 //
 // The server listens on 127.0.0.1:0 and writes the port it bound (--port_file), so tests never

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The test harness's ispq-server launcher (tests/integration/server_process.h) leaves nothing
 // behind: a server dies with the test process that started it, even when that process is killed
 // by SIGKILL (no destructor runs), and it does not die with a short-lived thread that started it

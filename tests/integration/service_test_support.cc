@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/integration/service_test_support.h"
 
 #include <algorithm>
@@ -68,15 +69,15 @@ v1::QuantizeRequest StoredMeshRequest(const std::string& stored_mesh, int level_
 
 const v1::TMesh& NotchMesh() {
   static const v1::TMesh* mesh =
-      new v1::TMesh(LoadProtoOrDie(BundledSample("s07c_notch.tmesh.json")));
+      new v1::TMesh(LoadProtoOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json")));
   return *mesh;
 }
 
-v1::TMesh SharedMeshNamed(const std::string& model) {
-  for (const std::string& path : SharedTMeshFiles()) {
+v1::TMesh RealMeshNamed(const std::string& model) {
+  for (const std::string& path : RealTMeshFiles()) {
     if (ShortName(path).ends_with("/" + model)) return LoadProtoOrDie(path);
   }
-  ADD_FAILURE() << "no shared T-mesh named " << model << " in " << SharedTMeshDir();
+  ADD_FAILURE() << "no real T-mesh named " << model << " in " << RealTMeshDir();
   return v1::TMesh();
 }
 
@@ -91,7 +92,7 @@ struct Calibration {
 const Calibration& BaseCalibration() {
   static const Calibration* calibration = [] {
     auto* result = new Calibration;
-    result->base = SharedMeshNamed(kLongRunningModel);
+    result->base = RealMeshNamed(kLongRunningModel);
     const TMesh core_mesh = TMeshOrDie(result->base);
     v1::QuantizationOptions options;
     options.mutable_scaling()->set_level_percent(100);

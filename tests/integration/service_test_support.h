@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // What the service's integration tests (and the load test) share: starting the real server,
 // connecting the real client, building requests from real T-meshes, waiting for job states,
 // the long-running job, and checking every result with the product's validator.
@@ -33,11 +34,11 @@ client::QuantizerClient ClientOf(const ServerProcess& server, const std::string&
 v1::QuantizeRequest RequestFor(const v1::TMesh& mesh, int level_percent);
 v1::QuantizeRequest StoredMeshRequest(const std::string& stored_mesh, int level_percent);
 
-// The bundled sample (tests/data) and a shared T-mesh by model name.
+// hex-me/s07c_notch of the real set, and a real T-mesh by model name.
 const v1::TMesh& NotchMesh();
-v1::TMesh SharedMeshNamed(const std::string& model);
+v1::TMesh RealMeshNamed(const std::string& model);
 
-// A real T-mesh (disjoint copies of a shared one, see tmesh_copies.h) whose level-100 solve
+// A real T-mesh (disjoint copies of one of the real set, see tmesh_copies.h) whose level-100 solve
 // takes about `seconds` in-process on this machine; one copy is timed once per test binary.
 v1::TMesh MeshTakingSeconds(double seconds);
 // About a minute: long enough to still run whenever a test acts on it; tests cancel it.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Graceful shutdown of the real server process on SIGTERM/SIGINT: health turns NOT_SERVING, new
 // jobs are refused, queued jobs end with UNAVAILABLE so that clients can resubmit, running jobs
 // finish (or are interrupted when the grace period runs out) and their watchers receive the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The `ispq stats` command as a user runs it: the real binary, its output and exit codes.
 #include <fstream>
 #include <string>
@@ -18,7 +19,7 @@ testing::CommandResult RunIspq(const std::string& args) {
 
 TEST(StatsCliTest, PrintsJsonCounts) {
   const testing::CommandResult r =
-      RunIspq("stats " + testing::BundledSample("s01c_cube.tmesh.json") + " --json");
+      RunIspq("stats " + testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json") + " --json");
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_THAT(r.output, HasSubstr("\"blocks\":1"));
   EXPECT_THAT(r.output, HasSubstr("\"patches\":6"));
@@ -30,7 +31,7 @@ TEST(StatsCliTest, PrintsJsonCounts) {
 
 TEST(StatsCliTest, PrintsHumanReadableCounts) {
   const testing::CommandResult r =
-      RunIspq("stats " + testing::BundledSample("s07c_notch.tmesh.json"));
+      RunIspq("stats " + testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_THAT(r.output, HasSubstr("bundles"));
   EXPECT_THAT(r.output, HasSubstr("s07c_notch"));
@@ -38,7 +39,7 @@ TEST(StatsCliTest, PrintsHumanReadableCounts) {
 
 TEST(StatsCliTest, InvalidFileExitsWithValidatorMessage) {
   const std::string path = ::testing::TempDir() + "/broken.tmesh.json";
-  std::ifstream in(testing::BundledSample("s01c_cube.tmesh.json"));
+  std::ifstream in(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   std::string json((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   json.replace(json.find("\"length\":"), 9, "\"length\":-");  // a negative length on arc 0
   std::ofstream(path) << json;

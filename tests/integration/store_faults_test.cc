@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Faults of the shared job store and of replicas, counted exactly (issue 24): a real PostgreSQL
 // started by the test (tests/support/postgres_instance.h) that is stopped, restarted and frozen,
 // and real ispq-server replicas that are frozen, drained and killed. For every job whose

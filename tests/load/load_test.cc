@@ -1,6 +1,7 @@
+// SPDX-License-Identifier: Apache-2.0
 // Load test of the quantization service (not part of the default test run; a small bounded
 // variant is, see CMakeLists.txt): C concurrent clients each run J jobs through the real
-// ispq-server on loopback, over the shared real T-meshes at several levels, bounded in count
+// ispq-server on loopback, over the real T-meshes at several levels, bounded in count
 // and time. It reports throughput and latency percentiles, checks that every job's result is
 // present and valid (the validator) and identical to an in-process solve of the same instance
 // (nothing lost, nothing wrong), and measures the server's overhead over in-process solves.
@@ -89,7 +90,7 @@ double Mean(const std::vector<double>& values) {
 
 std::vector<Instance> LoadInstances(const std::vector<int>& levels) {
   std::vector<Instance> instances;
-  for (const std::string& path : SharedTMeshFiles()) {
+  for (const std::string& path : RealTMeshFiles()) {
     auto proto = std::make_shared<const v1::TMesh>(LoadProtoOrDie(path));
     auto mesh = std::make_shared<const TMesh>(TMeshOrDie(*proto));
     for (int level : levels) {
@@ -174,7 +175,7 @@ int Main() {
 
   std::vector<Instance> instances = LoadInstances(levels);
   if (instances.empty()) {
-    std::cerr << "no shared T-meshes under " << SharedTMeshDir() << "\n";
+    std::cerr << "no real T-meshes under " << RealTMeshDir() << "\n";
     return 1;
   }
   const int total_jobs = clients * jobs_per_client;
@@ -268,10 +269,10 @@ int Main() {
   std::ostringstream report;
   report << "# ispq service load test\n\n"
          << absl::StrFormat(
-                "%d clients x %d jobs (%d started, %d instances: %zu shared "
+                "%d clients x %d jobs (%d started, %d instances: %zu real "
                 "T-meshes x levels %s), server with %d workers on loopback, %u "
                 "hardware threads\n\n",
-                clients, jobs_per_client, started, used, SharedTMeshFiles().size(),
+                clients, jobs_per_client, started, used, RealTMeshFiles().size(),
                 absl::StrJoin(levels, ","), workers, std::thread::hardware_concurrency())
          << "| measure | value |\n| --- | --- |\n"
          << absl::StrFormat("| jobs with a valid result equal to in-process | %zu / %d |\n",

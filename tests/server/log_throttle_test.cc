@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // LogThrottle (server/log_throttle.h): one line per interval, and the count of those held back.
 #include "server/log_throttle.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/memory_admission.h"
 
 #include <memory>
@@ -47,7 +48,8 @@ class MemoryAdmissionTest : public ::testing::Test {
     absl::StatusOr<MemoryReservation> memory =
         memory_.Reserve(MemoryUse::kStoredMeshes, bytes, "m");
     EXPECT_TRUE(memory.ok()) << memory.status();
-    const v1::TMesh proto = testing::LoadProtoOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+    const v1::TMesh proto =
+        testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
     absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(proto, 1000, *std::move(memory));
     EXPECT_TRUE(admitted.ok()) << admitted.status();
     return (*meshes_.Add(*std::move(admitted), proto, "owner", absl::Now()))->id;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The PostgreSQL job store as several replicas see it: two stores on one real database stand for
 // two replicas. Claims, lease expiry, cross-replica watching, request ids and cancellation.
 #include <iostream>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "server/request_footprint.h"
 
 #include <string>
@@ -35,9 +36,10 @@ void ExpectBoundsTheParsedSize(const google::protobuf::Message& message) {
 }
 
 TEST(RequestFootprintTest, BoundsTheParsedSizeOfRealRequests) {
-  for (const char* file : {"s07c_notch.tmesh.json", "fanpart.tmesh.json"}) {
+  for (const char* file :
+       {"hex-me/s07c_notch.tmesh.json", "singularity-constrained-fields/fanpart.tmesh.json"}) {
     v1::QuantizeRequest request;
-    *request.mutable_mesh() = testing::LoadProtoOrDie(testing::BundledSample(file));
+    *request.mutable_mesh() = testing::LoadProtoOrDie(testing::RealTMeshPath(file));
     request.mutable_options()->mutable_scaling()->set_level_percent(25);
     request.set_request_id("a-request-id");
     ExpectBoundsTheParsedSize(request);

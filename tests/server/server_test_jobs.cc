@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/server/server_test_jobs.h"
 
 #include "core/mesh_stats.h"
@@ -8,7 +9,7 @@ namespace ispq::server {
 
 JobSpec NotchJobSpec() {
   static const std::shared_ptr<const TMesh> mesh = std::make_shared<const TMesh>(
-      testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json")));
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json")));
   JobSpec spec;
   spec.mesh = mesh;
   spec.mesh_stats = MeshStatsToProto(ComputeMeshStats(*mesh));

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Jobs for the unit tests of the server's parts: a real (bundled) T-mesh behind a minimal spec.
 #ifndef ISPQ_TESTS_SERVER_SERVER_TEST_JOBS_H_
 #define ISPQ_TESTS_SERVER_SERVER_TEST_JOBS_H_

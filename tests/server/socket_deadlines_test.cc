@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // SocketDeadlines (server/socket_deadlines.h): a blocking read on a socket whose peer never
 // answers returns once its deadline passes, and a guard gone before its deadline leaves the
 // socket alone.

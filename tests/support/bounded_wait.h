@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Waiting in tests without making time a pass/fail condition.
 //
 // A test that waits for something (a job to end, a process to exit, a port to close, a status to

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Starting the long-lived processes a test needs (servers, databases) so that they die with the
 // test process however it ends: a normal exit, a failed assertion's abort, a crash, or SIGKILL
 // (e.g. ctest's timeout). Each child asks the kernel for a signal when its parent dies

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Consistent integer quantizations of real T-meshes, built without the quantizer.
 //
 // Tests of the separation search and of the validator need inputs that satisfy every
@@ -21,7 +22,7 @@ namespace ispq::testing {
 
 class ConsistentQuantizations {
  public:
-  // Aborts the test binary if the elimination overflows int64 (it does not on the shared data).
+  // Aborts the test binary if the elimination overflows int64 (it does not on the real data).
   explicit ConsistentQuantizations(const TMesh& mesh);
 
   // The arcs whose values parametrize all consistent q, ascending.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The optimal quantization of a tiny T-mesh by brute force, for tests that need an answer no
 // algorithm of the product computed: every consistent q whose bundles (arcs forced equal) lie
 // within `radius` of the rounded mean target of the bundle and are >= 0, in order of objective,

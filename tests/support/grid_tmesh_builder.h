@@ -1,14 +1,16 @@
+// SPDX-License-Identifier: Apache-2.0
 // Synthetic T-meshes for unit tests: a block layout in one global integer grid, turned into a
 // complete ispq.v1.TMesh.
 //
-// Tests of the separation search and of the quantizer need tiny meshes whose answers can be worked
-// out by hand (core/README.md, section Cases with known answers). BuildGridTMesh takes a few
-// axis-aligned boxes and writes what the reference exporter would write for that motorcycle
+// Tests of the separation search and of the quantizer need tiny meshes whose answers can be
+// worked out by hand (core/README.md, section Cases with known answers). BuildGridTMesh takes a
+// few axis-aligned boxes and writes what the reference exporter would write for that motorcycle
 // complex: nodes at block corners and T-junctions, every block face split into patches by the
 // blocks on the other side, arcs split at every node, radial orders, singular marks, feature and
 // critical flags, critical entities, levels and stats. Blocks can be expressed in rotated frames,
 // which exercises transitions and frame handling without changing the geometry. Every mesh it
-// returns passes TMeshFromProto (core/proto/tmesh_from_proto.h) and shared/tools/check_tmesh.py.
+// returns passes TMeshFromProto (core/proto/tmesh_from_proto.h), the product's own format
+// checker.
 //
 // Element ids are deterministic but not meaningful; tests name elements by grid points through
 // the lookups of GridTMesh (e.g. "the arc from (1,1,0) to (1,1,1)").
@@ -120,7 +122,7 @@ struct GridLayout2D {
 GridTMeshSpec ExtrudeLayout(const GridLayout2D& layout);
 
 // The mesh as compact JSON through protobuf's JSON mapping (the `*.tmesh.json` format, all
-// fields written), e.g. to feed shared/tools/check_tmesh.py or to write a fixture.
+// fields written), e.g. to feed `ispq stats` or to write a fixture.
 absl::StatusOr<std::string> TMeshToJson(const v1::TMesh& mesh);
 
 }  // namespace ispq::testing

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A real PostgreSQL server for tests, from Debian's `postgresql` package: a fresh cluster
 // (initdb) in a temporary directory, its `postgres` binary run directly as a child of the test
 // (not through pg_ctl, which detaches it) on a free loopback port, trust authentication for the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // ispq_process_guard: runs one program for a test (PostgreSQL's postmaster) and makes sure that
 // nothing it started outlives it or the test.
 //

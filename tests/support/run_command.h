@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Running the product's binaries from tests, as a user or a script would: short commands (the
 // CLI against a test's server, psql, openssl) that end on their own. They are not tied to the
 // test's life (a shell's children would not inherit that anyway): a command that outlives a

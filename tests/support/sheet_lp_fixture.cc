@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/support/sheet_lp_fixture.h"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One sheet LP over a whole mesh, wired as the quantizer wires it (bundles, the quantization,
 // the consistency rows over bundles, optionally the block-extent rows C), for tests of the
 // subproblem LP (core/isp/sheet_subproblem.h) and of what it relies on.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/support/test_data.h"
 
 #include <algorithm>
@@ -10,12 +11,12 @@
 
 namespace ispq::testing {
 
-std::string SharedTMeshDir() { return ISPQ_SHARED_TMESH_DIR; }
+std::string RealTMeshDir() { return ISPQ_REAL_TMESH_DIR; }
 
-std::vector<std::string> SharedTMeshFiles() {
+std::vector<std::string> RealTMeshFiles() {
   std::vector<std::string> files;
   std::error_code error;
-  for (auto it = std::filesystem::recursive_directory_iterator(SharedTMeshDir(), error);
+  for (auto it = std::filesystem::recursive_directory_iterator(RealTMeshDir(), error);
        !error && it != std::filesystem::recursive_directory_iterator(); it.increment(error)) {
     const std::string path = it->path().string();
     if (it->is_regular_file() && path.ends_with(".tmesh.json")) files.push_back(path);
@@ -24,9 +25,11 @@ std::vector<std::string> SharedTMeshFiles() {
   return files;
 }
 
-std::string BundledSample(const std::string& file_name) {
-  return std::string(ISPQ_SAMPLE_DIR) + "/" + file_name;
+std::string RealTMeshPath(const std::string& dataset_and_file) {
+  return RealTMeshDir() + "/" + dataset_and_file;
 }
+
+std::string ReferenceResultsDir() { return ISPQ_REFERENCE_DIR; }
 
 std::string ShortName(const std::string& path) {
   const std::filesystem::path p(path);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // A T-mesh made of several disjoint copies of a real one, for jobs whose length a test controls.
 //
 // Tests of cancellation, deadlines, full queues and shutdown need a job that is still running

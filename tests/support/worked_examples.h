@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The worked examples that tests check by hand, as grid-builder inputs: the 2D separation examples
 // A, B and C (core/README.md, section Cases with known answers) and the ISP paper's half-integral
 // sheet (Figs. 6, 7). They live apart from the builder (tests/support/grid_tmesh_builder.h), which

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // T2 of core/README.md, section Cases with known answers: the hex count of a quantization, and
 // the extent rows.
 #include "core/block_extents.h"

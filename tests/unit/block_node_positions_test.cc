@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/block_node_positions.h"
 
 #include <string>
@@ -11,14 +12,14 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::ConsistentQuantizations;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 
 TEST(BlockNodePositionsTest, CubeCorners) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const BlockNodeSlots slots(cube);
   ASSERT_EQ(slots.num_slots(), 8);
   // Extents 2, 3, 5 along u, v, w.
@@ -41,8 +42,8 @@ TEST(BlockNodePositionsTest, CubeCorners) {
 
 // For a consistent q every boundary arc of every block spans q_a along its direction, whatever
 // the spanning tree, and the corners give the block extents.
-TEST(BlockNodePositionsTest, SharedMeshesArePathIndependent) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(BlockNodePositionsTest, RealMeshesArePathIndependent) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));
@@ -80,7 +81,7 @@ TEST(BlockNodePositionsTest, SharedMeshesArePathIndependent) {
 // One block's positions are those of the whole computation, and the other slots are left as they
 // were.
 TEST(BlockNodePositionsTest, OneBlockAtATime) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (size_t i = 0; i < files.size(); i += 4) {
     SCOPED_TRACE(ShortName(files[i]));

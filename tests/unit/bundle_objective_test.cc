@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The objective split over bundles and its piecewise-linear form on the integers
 // (core/exact/bundle_objective.h): values, best integers, windows and secants on a mesh whose
 // targets are known.

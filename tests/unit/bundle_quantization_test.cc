@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The bundle-level quantization and its incrementally kept objective d(q) = sum (q_a - s l_a)^2.
 #include "core/isp/bundle_quantization.h"
 
@@ -21,7 +22,8 @@ double ObjectiveFromScratch(const TMesh& mesh, double scaling, const std::vector
 }
 
 TEST(BundleQuantizationTest, StartsAtZeroWithTheSumOfSquaredTargets) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s02c_prism.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
   const BundleQuantization x(mesh, bundles, 0.3);
@@ -31,7 +33,8 @@ TEST(BundleQuantizationTest, StartsAtZeroWithTheSumOfSquaredTargets) {
 }
 
 TEST(BundleQuantizationTest, IncrementalObjectiveMatchesRecomputation) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s02c_prism.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
   BundleQuantization x(mesh, bundles, 0.3);
@@ -66,7 +69,7 @@ TEST(BundleQuantizationTest, IncrementalObjectiveMatchesRecomputation) {
 }
 
 TEST(BundleQuantizationTest, MeanDeviationIsTheBundlesOwnOptimumShift) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
   ASSERT_EQ(bundles.num_bundles(), 3);  // the four parallel edges of each axis

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Consistency matrix, bundles, subproblems and hex count on meshes with known answers.
 #include "core/arc_bundles.h"
 #include "core/block_extents.h"
@@ -12,7 +13,7 @@ namespace ispq {
 namespace {
 
 TEST(ConsistencyStructuresTest, SingleCube) {
-  const TMesh cube = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const ConsistencyMatrix consistency(cube);
   EXPECT_EQ(consistency.num_rows(), 12);  // 6 patches x 2 axes
   const ArcBundles bundles(cube, consistency);
@@ -40,7 +41,8 @@ TEST(ConsistencyStructuresTest, SingleCube) {
 }
 
 TEST(ConsistencyStructuresTest, BundlingMergesTerms) {
-  const TMesh prism = testing::LoadTMeshOrDie(testing::BundledSample("s02c_prism.tmesh.json"));
+  const TMesh prism =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   const ConsistencyMatrix consistency(prism);
   const ArcBundles bundles(prism, consistency);
   // A row whose two sides are one arc each vanishes once both arcs share a bundle.
@@ -65,8 +67,8 @@ TEST(ResolutionLevelsTest, MatchesTheFormatDefinition) {
 }
 
 TEST(MeshStatsTest, CubeCounts) {
-  const MeshStats s =
-      ComputeMeshStats(testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json")));
+  const MeshStats s = ComputeMeshStats(
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json")));
   EXPECT_EQ(s.blocks, 1);
   EXPECT_EQ(s.patches, 6);
   EXPECT_EQ(s.arcs, 12);

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: Apache-2.0
 // Exact mode end to end (Quantize with QuantizationMethod::kExact, core/exact/exact_quantizer.h):
-// proven optima on the bundled samples and on grid meshes with brute-force optima, never worse
+// proven optima on five small real meshes and on grid meshes with brute-force optima, never worse
 // than ISP, improvements streamed as they are found, interruption, and the loop's variants. Every
 // result is checked by the validator.
 #include <limits>
@@ -25,11 +26,11 @@
 namespace ispq {
 namespace {
 
-TMesh SharedMesh(const std::string& model) {
-  for (const std::string& file : testing::SharedTMeshFiles()) {
+TMesh RealMesh(const std::string& model) {
+  for (const std::string& file : testing::RealTMeshFiles()) {
     if (testing::ShortName(file).ends_with("/" + model)) return testing::LoadTMeshOrDie(file);
   }
-  ADD_FAILURE() << "no shared mesh " << model;
+  ADD_FAILURE() << "no real mesh " << model;
   return testing::TMeshOrDie(v1::TMesh());
 }
 
@@ -90,10 +91,10 @@ QuantizeOptions Exact(double scaling) {
 // Every sample at every level: OPTIMAL, valid, never worse than ISP, gap 0, and progress events
 // whose bound never exceeds their objective.
 TEST(ExactModeTest, ProvesOptimaOnTheSamples) {
-  for (const char* file :
-       {"s01c_cube.tmesh.json", "s02c_prism.tmesh.json", "s04u_tetrahedron.tmesh.json",
-        "s07c_notch.tmesh.json", "fanpart.tmesh.json"}) {
-    const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample(file));
+  for (const char* file : {"hex-me/s01c_cube.tmesh.json", "hex-me/s02c_prism.tmesh.json",
+                           "hex-me/s04u_tetrahedron.tmesh.json", "hex-me/s07c_notch.tmesh.json",
+                           "singularity-constrained-fields/fanpart.tmesh.json"}) {
+    const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath(file));
     for (const Level& level : mesh.levels()) {
       SCOPED_TRACE(std::string(file) + " level " + std::to_string(level.percent));
       QuantizeOptions isp_options;
@@ -148,7 +149,7 @@ TEST(ExactModeTest, EqualsTheEnumeratedOptimumOnGridMeshes) {
 // s11c_cube_cyl at level 100 from a valid but worse start: exact mode streams the improvements
 // it finds, the last one being what it returns.
 TEST(ExactModeTest, StreamsImprovementsOverItsStart) {
-  const TMesh mesh = SharedMesh("s11c_cube_cyl");
+  const TMesh mesh = RealMesh("s11c_cube_cyl");
   const double scaling = mesh.levels().back().scaling;
   const Start start = AllRowsAtOnceIsp(mesh, scaling);
   ASSERT_FALSE(start.q.empty());
@@ -174,7 +175,7 @@ TEST(ExactModeTest, StreamsImprovementsOverItsStart) {
 
 // Interrupted at its first event, exact mode returns at once with ISP's valid q and a bound.
 TEST(ExactModeTest, InterruptionReturnsTheBestValidQ) {
-  const TMesh mesh = SharedMesh("s11c_cube_cyl");
+  const TMesh mesh = RealMesh("s11c_cube_cyl");
   const double scaling = mesh.levels().back().scaling;
   SolveInterrupter interrupter;
   ExactEvents events(&interrupter);
@@ -193,7 +194,7 @@ TEST(ExactModeTest, InterruptionReturnsTheBestValidQ) {
 // loop's path, so another path can exclude more. Here it excludes the improvement that
 // restarting at the first invalid incumbent finds, and proves the start optimal for its rows.
 TEST(ExactModeTest, BothLoopVariantsProveOptimaForTheirOwnRows) {
-  const TMesh mesh = SharedMesh("s11c_cube_cyl");
+  const TMesh mesh = RealMesh("s11c_cube_cyl");
   const QuantizeOptions options = Exact(mesh.levels().back().scaling);
   const Start start = AllRowsAtOnceIsp(mesh, options.scaling);
   ASSERT_FALSE(start.q.empty());
@@ -218,7 +219,8 @@ TEST(ExactModeTest, BothLoopVariantsProveOptimaForTheirOwnRows) {
 
 // The per-arc switch holds in exact mode too, and the validator checks it.
 TEST(ExactModeTest, PerArcNonNegativity) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   QuantizeOptions options = Exact(mesh.levels()[0].scaling);
   options.per_arc_nonnegative = true;
   const absl::StatusOr<QuantizeResult> exact = Quantize(mesh, options);
@@ -235,7 +237,7 @@ TEST(ExactModeTest, PerArcNonNegativity) {
 // The API's method: unset and ISP mean ISP, EXACT exact mode; unknown values are refused with
 // the field named.
 TEST(ExactModeTest, MethodFromTheApi) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   v1::QuantizationOptions proto;
   proto.mutable_scaling()->set_factor(1.0);
   EXPECT_EQ(QuantizeOptionsFromProto(proto, mesh)->method, QuantizationMethod::kIsp);

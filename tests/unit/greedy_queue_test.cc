@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The greedy descent's queue: roots furthest from their targets first, outdated entries skipped,
 // and re-queuing exactly the roots whose last solve depended on what a sheet changed.
 #include "core/isp/greedy_queue.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/support/grid_tmesh_builder.h"
 
 #include <algorithm>
@@ -30,7 +31,7 @@ using ::testing::ElementsAre;
 // Builds the mesh, requires it to pass the validator and to survive a JSON round trip
 // unchanged. A spec the builder rejects aborts the binary, as test_data.h does for invalid
 // inputs: every later lookup would index an empty mesh. With ISPQ_GRID_TMESH_DUMP_DIR set, the
-// JSON is also written there as <name>.tmesh.json, for shared/tools/check_tmesh.py.
+// JSON is also written there as <name>.tmesh.json, e.g. to look at with `ispq stats`.
 GridTMesh BuildValid(const GridTMeshSpec& spec) {
   absl::StatusOr<GridTMesh> mesh = BuildGridTMesh(spec);
   if (!mesh.ok()) {
@@ -71,7 +72,7 @@ GridTMeshSpec UnitCube() {
 TEST(GridTMeshBuilderTest, UnitCubeHasTheReferenceCubesStructure) {
   const GridTMesh mesh = BuildValid(UnitCube());
   const v1::TMesh& built = mesh.proto();
-  const v1::TMesh reference = LoadProtoOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const v1::TMesh reference = LoadProtoOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   EXPECT_EQ(built.nodes_size(), reference.nodes_size());
   EXPECT_EQ(built.arcs_size(), reference.arcs_size());
   EXPECT_EQ(built.patches_size(), reference.patches_size());

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The inequality-row store of the sheet LPs: deduplication, values kept up to date as bundles
 // move, and the count of violated active rows.
 #include "core/isp/inequality_rows.h"

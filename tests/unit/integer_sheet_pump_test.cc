@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ISP driver's variants (core/integer_sheet_pump.h): every tuning knob, including the ones
 // that reproduce the paper's or the reference's choices instead of the defaults, must still end
 // in a valid quantization, and each knob must do what it says.
@@ -6,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <string>
 #include <utility>
@@ -23,9 +25,9 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshDir;
+using ::ispq::testing::RealTMeshDir;
+using ::ispq::testing::RealTMeshPath;
 
 struct Variant {
   std::string name;
@@ -46,6 +48,7 @@ std::vector<Variant> Variants() {
       {"one_row_per_search", [](IspTuning& t) { t.max_new_rows_per_search = 1; }},
       {"primal_simplex", [](IspTuning&) {}, {.algorithm = ClpAlgorithm::kPrimal}},
       {"cold_factorization", [](IspTuning&) {}, {.keep_factorization = false}},
+      {"bulk_descent_everywhere", [](IspTuning& t) { t.bulk_descent_min_bundles = 0; }},
   };
 }
 
@@ -54,9 +57,10 @@ class IntegerSheetPumpVariantTest : public ::testing::TestWithParam<Variant> {};
 TEST_P(IntegerSheetPumpVariantTest, EndsValidOnEveryLevel) {
   IspTuning tuning;
   GetParam().apply(tuning);
-  for (const char* file : {"s07c_notch.tmesh.json", "s04u_tetrahedron.tmesh.json",
-                           "fanpart.tmesh.json", "s02c_prism.tmesh.json"}) {
-    const TMesh mesh = LoadTMeshOrDie(BundledSample(file));
+  for (const char* file :
+       {"hex-me/s07c_notch.tmesh.json", "hex-me/s04u_tetrahedron.tmesh.json",
+        "singularity-constrained-fields/fanpart.tmesh.json", "hex-me/s02c_prism.tmesh.json"}) {
+    const TMesh mesh = LoadTMeshOrDie(RealTMeshPath(file));
     for (const Level& level : mesh.levels()) {
       QuantizeOptions options;
       options.scaling = level.scaling;
@@ -76,7 +80,7 @@ INSTANTIATE_TEST_SUITE_P(Tunings, IntegerSheetPumpVariantTest, ::testing::Values
                          [](const auto& info) { return info.param.name; });
 
 QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tuning) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample(file));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath(file));
   QuantizeOptions options;
   options.scaling = mesh.levels()[level_index].scaling;
   const absl::StatusOr<IspOutcome> outcome =
@@ -86,8 +90,8 @@ QuantizeStats StatsFor(const char* file, int level_index, const IspTuning& tunin
 }
 
 TEST(IntegerSheetPumpTest, RunsOnTheCallersCheckOnlyIfItFitsTheMeshAndRule) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
-  const TMesh copy = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
+  const TMesh copy = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[7].scaling;
   const auto run = [&](SeparationCheck& check) {
@@ -116,13 +120,13 @@ TEST(IntegerSheetPumpTest, RunsOnTheCallersCheckOnlyIfItFitsTheMeshAndRule) {
 TEST(IntegerSheetPumpTest, FailsafeOnlyUsesTheFailsafeMode) {
   IspTuning tuning;
   tuning.failsafe_separation_only = true;
-  const QuantizeStats stats = StatsFor("s07c_notch.tmesh.json", 7, tuning);
+  const QuantizeStats stats = StatsFor("hex-me/s07c_notch.tmesh.json", 7, tuning);
   EXPECT_GT(stats.failsafe_updates, 0);
   EXPECT_EQ(stats.separating_updates, 0);
 }
 
 TEST(IntegerSheetPumpTest, DefaultsSeparateWithoutTheFailsafeOnTheNotch) {
-  const QuantizeStats stats = StatsFor("s07c_notch.tmesh.json", 7, IspTuning{});
+  const QuantizeStats stats = StatsFor("hex-me/s07c_notch.tmesh.json", 7, IspTuning{});
   EXPECT_GT(stats.separating_updates, 0);
   EXPECT_EQ(stats.failsafe_updates, 0);
 }
@@ -130,8 +134,10 @@ TEST(IntegerSheetPumpTest, DefaultsSeparateWithoutTheFailsafeOnTheNotch) {
 TEST(IntegerSheetPumpTest, WithoutTheThoroughPassFewerSolvesAreNeeded) {
   IspTuning quick;
   quick.thorough_final_pass = false;
-  const QuantizeStats full = StatsFor("fanpart.tmesh.json", 4, IspTuning{});
-  const QuantizeStats partial = StatsFor("fanpart.tmesh.json", 4, quick);
+  const QuantizeStats full =
+      StatsFor("singularity-constrained-fields/fanpart.tmesh.json", 4, IspTuning{});
+  const QuantizeStats partial =
+      StatsFor("singularity-constrained-fields/fanpart.tmesh.json", 4, quick);
   EXPECT_LT(partial.lp_solves, full.lp_solves);
 }
 
@@ -198,7 +204,7 @@ TEST(IntegerSheetPumpTest, ThoroughPassesOnLargeSubproblemsPumpTowardTargetsOnly
             ValidRunOnPart(mesh, IspTuning{}).stats.lp_solves);
 }
 
-// A run on a shared T-mesh whose result the validator must accept; its objective.
+// A run on a real T-mesh whose result the validator must accept; its objective.
 double ValidObjective(const TMesh& mesh, double scaling, const IspTuning& tuning,
                       int64_t* separation_rounds = nullptr) {
   QuantizeOptions options;
@@ -223,8 +229,7 @@ double ValidObjective(const TMesh& mesh, double scaling, const IspTuning& tuning
 // a time, the sheets of the first rows separate the entities of the others by other paths, two
 // rows suffice and the run ends at 25.63.
 TEST(IntegerSheetPumpTest, FewRowsPerSearchSkipRowsThatOtherSheetsMadeUnnecessary) {
-  const TMesh mesh =
-      LoadTMeshOrDie(SharedTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json");
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json");
   const double scaling = mesh.levels()[6].scaling;
   ASSERT_EQ(mesh.levels()[6].percent, 50);
   IspTuning all_at_once;
@@ -239,7 +244,7 @@ TEST(IntegerSheetPumpTest, FewRowsPerSearchSkipRowsThatOtherSheetsMadeUnnecessar
 // k copies of a mesh need as many separation rounds as one copy and reach k times its objective
 // (with one cap for the whole mesh, 160 copies of s07c_notch took 884 rounds instead of 6).
 TEST(IntegerSheetPumpTest, DisjointPartsGetTheirRowsInTheSameRound) {
-  const std::string path = SharedTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json";
+  const std::string path = RealTMeshDir() + "/hex-me/n12c_limit_cycle_genus0.tmesh.json";
   const absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(path);
   ASSERT_TRUE(proto.ok()) << proto.status();
   const TMesh one = testing::TMeshOrDie(proto->get());
@@ -261,12 +266,12 @@ class EventLog : public ProgressObserver {
 };
 
 // Anytime: when a separating update leaves a separating q, it is reported at once, before the
-// descent that follows, instead of after it. The run itself takes the same path (the shared set
+// descent that follows, instead of after it. The run itself takes the same path (the real set
 // gives identical q with and without the probe). Without the probe a descent (kGreedy) never
 // follows the first separating event before the final pass (kFinal) began: the first separating
 // event came from a search that found nothing, after which only the final pass runs.
 TEST(IntegerSheetPumpTest, AValidQALeftBySeparatingUpdateIsReportedBeforeTheNextDescent) {
-  const TMesh mesh = LoadTMeshOrDie(SharedTMeshDir() + "/hex-me/n06u_anti_pentapyr.tmesh.json");
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshDir() + "/hex-me/n06u_anti_pentapyr.tmesh.json");
   QuantizeOptions options;
   options.scaling = mesh.levels()[7].scaling;
   EventLog log;
@@ -298,8 +303,9 @@ class QuantizationLog : public EventLog {
 };
 
 // The layered start on the synthetic part (1000 arcs; the threshold lowered to reach it): its q
-// is the first event, separating and valid by the validator, and the run that follows ends with
-// the same q as a run without it, since ISP still starts from q = 0.
+// is the first event, separating and valid by the validator, and when the descent does not start
+// from it, the run that follows ends with the same q as a run without it, since ISP then still
+// starts from q = 0.
 TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone) {
   const TMesh mesh = SyntheticPart();
   for (const int level : {1, 5, 7}) {
@@ -307,6 +313,7 @@ TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone)
     options.scaling = mesh.levels()[level].scaling;
     IspTuning layered;
     layered.layered_start_min_arcs = 0;
+    layered.descend_from_layered_start = false;
     QuantizationLog log;
     const absl::StatusOr<IspOutcome> with =
         RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), layered, &log, nullptr);
@@ -330,6 +337,68 @@ TEST(IntegerSheetPumpTest, TheLayeredStartIsTheFirstValidQAndLeavesThePathAlone)
     ASSERT_TRUE(alone.ok()) << alone.status();
     EXPECT_EQ(with->q, alone->q) << "level " << level;
     EXPECT_NE(plain.events.front().phase, QuantizationPhase::kLayers);
+  }
+}
+
+// Descending from the layered start (the default above IspTuning::layered_start_min_arcs) ends
+// valid, below the layered q's objective, and no worse than the descent from q = 0 by more than
+// the greedy's usual spread among starting points.
+TEST(IntegerSheetPumpTest, DescendingFromTheLayeredStartEndsValidBelowIt) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning from_layers;
+    from_layers.layered_start_min_arcs = 0;
+    QuantizationLog log;
+    const absl::StatusOr<IspOutcome> descended =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), from_layers, &log, nullptr);
+    ASSERT_TRUE(descended.ok()) << descended.status();
+    ExpectSeparatingAndValid(mesh, *descended);
+    ASSERT_FALSE(log.events.empty());
+    ASSERT_EQ(log.events.front().phase, QuantizationPhase::kLayers);
+    const double objective = QuantizationObjective(mesh, descended->q, options.scaling);
+    EXPECT_LT(objective, log.events.front().objective) << "level " << level;
+
+    IspTuning from_zero = from_layers;
+    from_zero.descend_from_layered_start = false;
+    const absl::StatusOr<IspOutcome> plain =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), from_zero, nullptr, nullptr);
+    ASSERT_TRUE(plain.ok()) << plain.status();
+    const double plain_objective = QuantizationObjective(mesh, plain->q, options.scaling);
+    std::cout << "level " << level << ": from the layered start " << objective << ", from q = 0 "
+              << plain_objective << "\n";
+    EXPECT_LE(objective, 1.02 * plain_objective) << "level " << level;
+  }
+}
+
+// The bulk descent (every subproblem at least IspTuning::bulk_descent_min_bundles bundles) on the
+// synthetic part: valid, within the greedy's spread of the root-by-root descent, in fewer LP
+// solves, and its solves are counted with their pivots.
+TEST(IntegerSheetPumpTest, BulkDescentEndsValidInFewerSolves) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning bulk;
+    bulk.bulk_descent_min_bundles = 0;
+    const absl::StatusOr<IspOutcome> in_bulk =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), bulk, nullptr, nullptr);
+    ASSERT_TRUE(in_bulk.ok()) << in_bulk.status();
+    ExpectSeparatingAndValid(mesh, *in_bulk);
+    IspTuning by_root;
+    by_root.bulk_descent_min_bundles = std::numeric_limits<int>::max();
+    const absl::StatusOr<IspOutcome> root_by_root =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), by_root, nullptr, nullptr);
+    ASSERT_TRUE(root_by_root.ok()) << root_by_root.status();
+    const double bulk_objective = QuantizationObjective(mesh, in_bulk->q, options.scaling);
+    const double root_objective = QuantizationObjective(mesh, root_by_root->q, options.scaling);
+    std::cout << "level " << level << ": bulk " << bulk_objective << " in "
+              << in_bulk->stats.lp_solves << " solves, root by root " << root_objective << " in "
+              << root_by_root->stats.lp_solves << " solves\n";
+    EXPECT_LE(bulk_objective, 1.02 * root_objective) << "level " << level;
+    EXPECT_LT(in_bulk->stats.lp_solves, root_by_root->stats.lp_solves) << "level " << level;
+    EXPECT_GE(in_bulk->stats.lp_pivots, in_bulk->stats.lp_solves / 2) << "level " << level;
   }
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // OPTIMALINTEGERSTEP: the best multiplicity of a sheet on a convex parabola.
 #include "core/isp/integer_step.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Turning rational LP vertices into integer sheets (paper section 4.3.1).
 #include "core/isp/lcd_scaling.h"
 

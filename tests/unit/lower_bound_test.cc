@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The lower bound of a result (core/exact/lower_bound.h): never above the objective or the true
 // optimum, equal to the optimum where the LP relaxation is integral, strictly below where it is
 // not, and attached to results as the options ask. Its LP with secants added as needed
@@ -27,11 +28,11 @@
 namespace ispq {
 namespace {
 
-TMesh SharedMesh(const std::string& model) {
-  for (const std::string& file : testing::SharedTMeshFiles()) {
+TMesh RealMesh(const std::string& model) {
+  for (const std::string& file : testing::RealTMeshFiles()) {
     if (testing::ShortName(file).ends_with("/" + model)) return testing::LoadTMeshOrDie(file);
   }
-  ADD_FAILURE() << "no shared mesh " << model;
+  ADD_FAILURE() << "no real mesh " << model;
   return testing::TMeshOrDie(v1::TMesh());
 }
 
@@ -49,13 +50,13 @@ TEST(LowerBoundTest, RelativeGap) {
   EXPECT_EQ(RelativeGap(2, 0), 1);
 }
 
-// Every ISP result on the bundled samples carries a bound at most its objective, and the gap
+// Every ISP result on five small real meshes carries a bound at most its objective, and the gap
 // that goes with it.
 TEST(LowerBoundTest, IspResultsOfTheSamplesCarryABoundBelowTheirObjective) {
-  for (const char* file :
-       {"s01c_cube.tmesh.json", "s02c_prism.tmesh.json", "s04u_tetrahedron.tmesh.json",
-        "s07c_notch.tmesh.json", "fanpart.tmesh.json"}) {
-    const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample(file));
+  for (const char* file : {"hex-me/s01c_cube.tmesh.json", "hex-me/s02c_prism.tmesh.json",
+                           "hex-me/s04u_tetrahedron.tmesh.json", "hex-me/s07c_notch.tmesh.json",
+                           "singularity-constrained-fields/fanpart.tmesh.json"}) {
+    const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath(file));
     for (const Level& level : mesh.levels()) {
       QuantizeOptions options;
       options.scaling = level.scaling;
@@ -95,7 +96,7 @@ TEST(LowerBoundTest, EqualsTheOptimumWhereTheRelaxationIsIntegral) {
 // s09c_bridge at level 100: the relaxation is fractional, so the bound lies strictly below ISP's
 // objective, and still below the optimum that exact mode proves.
 TEST(LowerBoundTest, StaysBelowTheOptimumWhereTheRelaxationIsFractional) {
-  const TMesh mesh = SharedMesh("s09c_bridge");
+  const TMesh mesh = RealMesh("s09c_bridge");
   QuantizeOptions options;
   options.scaling = mesh.levels().back().scaling;
   const QuantizeResult isp = QuantizeOrDie(mesh, options);
@@ -111,7 +112,8 @@ TEST(LowerBoundTest, StaysBelowTheOptimumWhereTheRelaxationIsFractional) {
 // A row the result violates is not part of the problem it is certified for: it is left out
 // rather than pushing the bound above the objective.
 TEST(LowerBoundTest, RowsTheResultViolatesAreLeftOut) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[4].scaling;
   options.lower_bound = LowerBoundMode::kNever;
@@ -131,7 +133,8 @@ TEST(LowerBoundTest, RowsTheResultViolatesAreLeftOut) {
 }
 
 TEST(LowerBoundTest, OptionsDecideWhetherIspResultsCarryOne) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("fanpart.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(
+      testing::RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[2].scaling;
   options.lower_bound = LowerBoundMode::kAlways;
@@ -169,7 +172,7 @@ TwoRelaxations SolveBothRelaxations(const TMesh& mesh, double scaling, std::span
 // the secants must follow the solution over several rounds. Both end at the full optimum.
 TEST(LowerBoundTest, LazySecantsReachTheFullRelaxation) {
   for (const char* model : {"s09c_bridge", "s12c_cube_rounded_1", "n06u_anti_pentapyr"}) {
-    const TMesh mesh = SharedMesh(model);
+    const TMesh mesh = RealMesh(model);
     std::vector<std::vector<int64_t>> results;
     for (const Level& level : mesh.levels()) {
       QuantizeOptions options;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/on_demand_lists.h"
 
 #include "gmock/gmock.h"

@@ -1,4 +1,5 @@
-// The layered quantization (core/isp/parametric_layers.h): on the shared T-meshes and on
+// SPDX-License-Identifier: Apache-2.0
+// The layered quantization (core/isp/parametric_layers.h): on the real T-meshes and on
 // synthetic parts of every family, the layers close and their q is >= 1 on every arc and valid
 // by the validator at every level; where the parametrization spirals, no q is returned.
 #include "core/isp/parametric_layers.h"
@@ -17,7 +18,7 @@ namespace ispq {
 namespace {
 
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
 using ::ispq::testing::ShortName;
 
 // Expects a layered q on `mesh` at every level; returns false if the layers did not close.
@@ -39,14 +40,14 @@ bool ExpectValidLayeredQuantization(const TMesh& mesh, const std::string& name) 
   return true;
 }
 
-// The one shared mesh whose layers do not close: a tubular shape whose seam carries a translation,
+// The one real mesh whose layers do not close: a tubular shape whose seam carries a translation,
 // so that an iso-surface comes back shifted after a turn around the tube.
 constexpr char kSpiralling[] =
     "metamesh-guided-hexalab/"
     "2017_-_Explicit_Cylindrical_Maps_for_General_Tubular_Shapes_femur_shell1";
 
-TEST(ParametricLayersTest, ValidOnEverySharedMeshWhoseLayersClose) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(ParametricLayersTest, ValidOnEveryRealMeshWhoseLayersClose) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   std::vector<std::string> open;
   for (const std::string& file : files) {

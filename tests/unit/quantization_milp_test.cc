@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The exact model (core/exact/quantization_milp.h) solved by the CBC back end
 // (core/exact/cbc_milp_solver.h) on grid meshes whose optima are known by hand or by brute force:
 // optima, relaxations, windows, initial solutions, cutoffs and the callbacks.

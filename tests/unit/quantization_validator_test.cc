@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/quantization_validator.h"
 
 #include <algorithm>
@@ -16,10 +17,10 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::ConsistentQuantizations;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 using ::testing::HasSubstr;
 
@@ -60,14 +61,14 @@ int CountLines(const std::string& text) {
 }
 
 TEST(QuantizationValidatorTest, RejectsAWrongSize) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const absl::StatusOr<ValidationReport> report =
       ValidateQuantization(cube, std::vector<int64_t>(11, 1));
   EXPECT_EQ(report.status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(QuantizationValidatorTest, ValidCube) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const absl::StatusOr<ValidationReport> report = ValidateQuantization(cube, CubeQ(cube, 1, 2, 3));
   ASSERT_TRUE(report.ok()) << report.status();
   EXPECT_TRUE(report->valid());
@@ -78,7 +79,7 @@ TEST(QuantizationValidatorTest, ValidCube) {
 // The last line of defence against overflow (issue 7): values a 32-bit q would wrap and hex
 // counts beyond int64 are never certified, however consistent and separated they are.
 TEST(QuantizationValidatorTest, RefusesValuesOutsideTheRepresentableRange) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const absl::StatusOr<ValidationReport> wrapped =
       ValidateQuantization(cube, CubeQ(cube, int64_t{1} << 31, 1, 1));
   ASSERT_TRUE(wrapped.ok());
@@ -109,7 +110,7 @@ TEST(QuantizationValidatorTest, RefusesValuesOutsideTheRepresentableRange) {
 }
 
 TEST(QuantizationValidatorTest, InconsistentCube) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   std::vector<int64_t> q = CubeQ(cube, 1, 1, 1);
   const ArcId a = cube.block_edge_arcs(0, EdgeCode(1, false, false))[0];  // a v-edge
   q[a] = 3;
@@ -134,7 +135,7 @@ TEST(QuantizationValidatorTest, InconsistentCube) {
 }
 
 TEST(QuantizationValidatorTest, CollapsedAndNegativeCube) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   {
     const absl::StatusOr<ValidationReport> report =
         ValidateQuantization(cube, CubeQ(cube, 0, 1, 1));
@@ -228,7 +229,7 @@ TEST(QuantizationValidatorTest, WithTheCallersCheckReportsAsWithItsOwn) {
 // several scales (the small ones with zero arcs and violations) and for the q before, its answers
 // are a fresh check's.
 TEST(QuantizationValidatorTest, ACheckRemembersOnlyWhatItsSearchesFound) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   int clean = 0, violated = 0;
   for (const std::string& file : files) {
@@ -257,8 +258,8 @@ TEST(QuantizationValidatorTest, ACheckRemembersOnlyWhatItsSearchesFound) {
 }
 
 TEST(QuantizationValidatorTest, RefusesACheckOfAnotherMeshOrRule) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
-  const TMesh copy = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
+  const TMesh copy = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const std::vector<int64_t> q = CubeQ(cube, 1, 2, 3);
   SeparationCheck of_copy(copy, SeparationRule::kBothSearches);
   EXPECT_EQ(ValidateQuantization(cube, q, {}, of_copy).status().code(),
@@ -274,11 +275,11 @@ TEST(QuantizationValidatorTest, RefusesACheckOfAnotherMeshOrRule) {
   EXPECT_TRUE(report->valid());
 }
 
-// On every shared mesh: q = 0 collapses every link and region (the search is not run); a
+// On every real mesh: q = 0 collapses every link and region (the search is not run); a
 // consistent q with every arc positive passes consistency and the simple rows, and every
 // separation violation reported for it is violated by it.
-TEST(QuantizationValidatorTest, SharedMeshes) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(QuantizationValidatorTest, RealMeshes) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));

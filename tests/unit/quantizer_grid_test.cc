@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Quantize() on tiny synthetic T-meshes whose optimal quantization is known: found by
 // enumerating every consistent q near the targets in order of objective until the validator
 // accepts one (tests/support/enumerated_optimum.h).

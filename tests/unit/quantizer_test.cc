@@ -1,4 +1,5 @@
-// Quantize() on the real shared T-meshes: every result at every level is checked by the
+// SPDX-License-Identifier: Apache-2.0
+// Quantize() on the real T-meshes: every result at every level is checked by the
 // validator, plus the contract around options, observers, interruption and time limits.
 #include "core/quantizer.h"
 
@@ -19,9 +20,9 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 using ::testing::HasSubstr;
 
@@ -55,12 +56,12 @@ void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
       << context;
 }
 
-TEST(QuantizerTest, SharedDataIsPresent) { EXPECT_FALSE(SharedTMeshFiles().empty()); }
+TEST(QuantizerTest, RealDataIsPresent) { EXPECT_FALSE(RealTMeshFiles().empty()); }
 
-// Every shared mesh at all eight levels (the whole set takes seconds in Release).
-class QuantizerSharedMeshTest : public ::testing::TestWithParam<std::string> {};
+// Every real mesh at all eight levels (the whole set takes seconds in Release).
+class QuantizerRealMeshTest : public ::testing::TestWithParam<std::string> {};
 
-TEST_P(QuantizerSharedMeshTest, EveryLevelGivesAValidResult) {
+TEST_P(QuantizerRealMeshTest, EveryLevelGivesAValidResult) {
   const TMesh mesh = LoadTMeshOrDie(GetParam());
   ASSERT_EQ(mesh.levels().size(), 8u);
   for (const Level& level : mesh.levels()) {
@@ -74,8 +75,8 @@ TEST_P(QuantizerSharedMeshTest, EveryLevelGivesAValidResult) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(SharedMeshes, QuantizerSharedMeshTest,
-                         ::testing::ValuesIn(SharedTMeshFiles()), [](const auto& info) {
+INSTANTIATE_TEST_SUITE_P(RealMeshes, QuantizerRealMeshTest, ::testing::ValuesIn(RealTMeshFiles()),
+                         [](const auto& info) {
                            std::string name = ShortName(info.param);
                            for (char& c : name) {
                              if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
@@ -85,7 +86,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, QuantizerSharedMeshTest,
 
 // The single cube: every arc becomes 1 at every level (the reference's objective is 3).
 TEST(QuantizerTest, CubeGetsOneOnEveryArc) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   for (const Level& level : cube.levels()) {
     QuantizeOptions options;
     options.scaling = level.scaling;
@@ -100,8 +101,9 @@ TEST(QuantizerTest, CubeGetsOneOnEveryArc) {
 
 const std::vector<std::string>& SwitchMeshes() {
   static const auto* const kMeshes = new std::vector<std::string>{
-      BundledSample("s04u_tetrahedron.tmesh.json"), BundledSample("s07c_notch.tmesh.json"),
-      BundledSample("fanpart.tmesh.json")};
+      RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json"),
+      RealTMeshPath("hex-me/s07c_notch.tmesh.json"),
+      RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json")};
   return *kMeshes;
 }
 
@@ -123,7 +125,7 @@ TEST(QuantizerTest, UniformSignSheetsGiveValidResultsWithoutMixedSheets) {
 TEST(QuantizerTest, MixedSignSheetsAreUsedAndLowerTheTotalObjective) {
   int64_t mixed = 0;
   double with = 0, without = 0;
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   for (size_t i = 0; i < files.size(); i += 3) {  // a third of the set is plenty
     const TMesh mesh = LoadTMeshOrDie(files[i]);
     const Level& level = mesh.levels()[3];
@@ -157,9 +159,9 @@ TEST(QuantizerTest, WithoutDecompositionOneSubproblemGivesValidResults) {
 }
 
 TEST(QuantizerTest, DecompositionSplitsIntoSeveralSubproblems) {
-  // The shared set has meshes whose sheet LP falls apart into independent pieces (section 4.4).
+  // The real set has meshes whose sheet LP falls apart into independent pieces (section 4.4).
   int32_t most = 0;
-  for (const std::string& path : SharedTMeshFiles()) {
+  for (const std::string& path : RealTMeshFiles()) {
     const TMesh mesh = LoadTMeshOrDie(path);
     QuantizeOptions options;
     options.scaling = mesh.levels()[0].scaling;
@@ -187,7 +189,7 @@ TEST(QuantizerTest, PerArcNonNegativityKeepsEveryArcNonNegative) {
 }
 
 TEST(QuantizerTest, ReferenceSearchModeGivesResultsValidInThatMode) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s04u_tetrahedron.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json"));
   for (const Level& level : mesh.levels()) {
     QuantizeOptions options;
     options.scaling = level.scaling;
@@ -199,7 +201,8 @@ TEST(QuantizerTest, ReferenceSearchModeGivesResultsValidInThatMode) {
 }
 
 TEST(QuantizerTest, IsDeterministic) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  const TMesh mesh =
+      LoadTMeshOrDie(RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[5].scaling;
   const absl::StatusOr<QuantizeResult> first = Quantize(mesh, options);
@@ -210,7 +213,7 @@ TEST(QuantizerTest, IsDeterministic) {
 }
 
 TEST(QuantizerTest, RejectsBadOptions) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   for (double scaling : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(),
                          std::numeric_limits<double>::infinity()}) {
     QuantizeOptions options;
@@ -229,7 +232,7 @@ TEST(QuantizerTest, RejectsBadOptions) {
 // s = 1e9 the notch's q used to wrap around int32 and be certified valid, and at 1e20 CLP aborted
 // the process on an objective coefficient above 1e25.
 TEST(QuantizerTest, RefusesTargetsOutsideTheRepresentableRange) {
-  const TMesh notch = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  const TMesh notch = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   for (double scaling : {1e9, 1e12, 1e20, 1e300}) {
     QuantizeOptions options;
     options.scaling = scaling;
@@ -298,7 +301,7 @@ class RecordingObserver : public ProgressObserver {
 };
 
 TEST(QuantizerTest, ObserverSeesAMonotoneRunAndQOnlyOnRequest) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[4].scaling;
   for (const bool wants_q : {false, true}) {
@@ -330,7 +333,8 @@ TEST(QuantizerTest, ObserverSeesAMonotoneRunAndQOnlyOnRequest) {
 }
 
 TEST(QuantizerTest, InterruptAtTheFirstEventStopsBeforeAnyValidQ) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  const TMesh mesh =
+      LoadTMeshOrDie(RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[2].scaling;
   SolveInterrupter interrupter;
@@ -346,7 +350,8 @@ TEST(QuantizerTest, InterruptAtTheFirstEventStopsBeforeAnyValidQ) {
 }
 
 TEST(QuantizerTest, InterruptOnceSeparatingReturnsThatValidQ) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  const TMesh mesh =
+      LoadTMeshOrDie(RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[2].scaling;
   SolveInterrupter interrupter;
@@ -364,7 +369,7 @@ TEST(QuantizerTest, InterruptOnceSeparatingReturnsThatValidQ) {
 }
 
 TEST(QuantizerTest, InterruptedBeforeTheStartReturnsTheInvalidStart) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[0].scaling;
   SolveInterrupter interrupter;
@@ -378,7 +383,7 @@ TEST(QuantizerTest, InterruptedBeforeTheStartReturnsTheInvalidStart) {
 }
 
 TEST(QuantizerTest, ZeroTimeLimitStopsAtOnce) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[0].scaling;
   options.time_limit_seconds = 0;
@@ -389,7 +394,7 @@ TEST(QuantizerTest, ZeroTimeLimitStopsAtOnce) {
 }
 
 TEST(QuantizerTest, GenerousTimeLimitConverges) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("s02c_prism.tmesh.json"));
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s02c_prism.tmesh.json"));
   QuantizeOptions options;
   options.scaling = mesh.levels()[0].scaling;
   options.time_limit_seconds = 3600;

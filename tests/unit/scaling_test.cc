@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Resolving the caller's choice of scaling factor against a mesh: a factor is taken as it is, a
 // level is the format's factor for that percent, a hex count inverts the continuous block volume;
 // bad choices are INVALID_ARGUMENT with a message that names the value.
@@ -19,8 +20,8 @@ namespace {
 using ::testing::HasSubstr;
 
 const TMesh& Tetrahedron() {
-  static const TMesh* const kMesh =
-      new TMesh(testing::LoadTMeshOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
+  static const TMesh* const kMesh = new TMesh(
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json")));
   return *kMesh;
 }
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The separation search on small synthetic T-meshes with known answers (core/README.md, section
 // Cases with known answers, T5-T12): two blocks along u, the feature node in a 2x2x2 grid, a link
 // start with pre-branch walking, the 2D worked examples A-C extruded by one layer, frame invariance

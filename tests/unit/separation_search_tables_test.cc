@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The separation search's mesh tables, built on demand: every list says what the mesh says, and
 // a list is the same whichever lists were built before it.
 #include "core/separation_search_tables.h"
@@ -12,9 +13,9 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 
 template <typename T>
@@ -50,7 +51,7 @@ struct AllLists {
 };
 
 TEST(SeparationSearchTablesTest, ListsDoNotDependOnTheOrderTheyWereBuiltIn) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));
@@ -66,9 +67,9 @@ TEST(SeparationSearchTablesTest, ListsDoNotDependOnTheOrderTheyWereBuiltIn) {
   }
 }
 
-// What each list holds, checked against the mesh's own adjacency on every shared T-mesh.
+// What each list holds, checked against the mesh's own adjacency on every real T-mesh.
 TEST(SeparationSearchTablesTest, ListsAgreeWithTheMesh) {
-  for (const std::string& file : SharedTMeshFiles()) {
+  for (const std::string& file : RealTMeshFiles()) {
     SCOPED_TRACE(ShortName(file));
     const TMesh mesh = LoadTMeshOrDie(file);
     SeparationSearchTables tables(mesh);
@@ -124,7 +125,8 @@ TEST(SeparationSearchTablesTest, ListsAgreeWithTheMesh) {
 // Asking for a list builds that list alone, except a block's side slots, which come with all the
 // sides of their block; asking again builds nothing.
 TEST(SeparationSearchTablesTest, BuildsOnlyWhatIsAskedFor) {
-  const TMesh mesh = LoadTMeshOrDie(BundledSample("fanpart.tmesh.json"));
+  const TMesh mesh =
+      LoadTMeshOrDie(RealTMeshPath("singularity-constrained-fields/fanpart.tmesh.json"));
   SeparationSearchTables tables(mesh);
   EXPECT_EQ(tables.num_built_values(), 0u);
   size_t built = tables.HalfarcBlocks(0).size();

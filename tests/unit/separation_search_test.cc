@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: Apache-2.0
 // The separation search on the single cube (core/README.md, section Cases with known answers, T4),
-// on every shared T-mesh with consistent quantizations built by elimination (invariants that every
+// on every real T-mesh with consistent quantizations built by elimination (invariants that every
 // reported violation must satisfy, determinism T13, scale invariance), and its speed.
 #include "core/separation_search.h"
 
@@ -18,10 +19,10 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::ConsistentQuantizations;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 
 bool SameViolation(const SeparationViolation& a, const SeparationViolation& b) {
@@ -49,7 +50,7 @@ std::vector<ArcId> CubeArcsAlong(const TMesh& cube, int axis) {
 }
 
 TEST(SeparationSearchTest, UnitCubeHasNoViolations) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   SeparationSearch search(cube);
   EXPECT_TRUE(search.FindViolations(std::vector<int64_t>(12, 1)).empty());
   const std::vector<int64_t> larger = {3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3, 3};
@@ -59,7 +60,7 @@ TEST(SeparationSearchTest, UnitCubeHasNoViolations) {
 // T4: with one axis collapsed, 16 rows, each a single collapsed edge arc: 8 from the corners
 // (every collapsed edge twice) and one from each link along the two other axes.
 TEST(SeparationSearchTest, CubeWithOneCollapsedAxis) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   for (int axis = 0; axis < 3; ++axis) {
     SCOPED_TRACE(axis);
     for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
@@ -164,8 +165,8 @@ std::vector<int64_t> SparseConsistentQ(const ConsistentQuantizations& quantizati
   return quantizations.Extend(free_values);
 }
 
-TEST(SeparationSearchTest, SharedMeshesSparseQuantizations) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(SeparationSearchTest, RealMeshesSparseQuantizations) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   int total = 0;
   for (const std::string& file : files) {
@@ -191,8 +192,8 @@ TEST(SeparationSearchTest, SharedMeshesSparseQuantizations) {
 }
 
 // All arcs zero is consistent: every critical node's sectors and every link meet something.
-TEST(SeparationSearchTest, SharedMeshesAllZero) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(SeparationSearchTest, RealMeshesAllZero) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));
@@ -217,7 +218,7 @@ TEST(SeparationSearchTest, SharedMeshesAllZero) {
 // T13: the same input gives identical lists, in identical order, from the same instance and
 // from a fresh one.
 TEST(SeparationSearchTest, Deterministic) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (size_t i = 0; i < files.size(); i += 7) {
     SCOPED_TRACE(ShortName(files[i]));
@@ -237,7 +238,7 @@ TEST(SeparationSearchTest, Deterministic) {
 // core/separation_check.h do) answers exactly as one with its own, in either mode, also after the
 // other one is gone.
 TEST(SeparationSearchTest, SharingMeshTablesChangesNoAnswer) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (size_t i = 0; i < files.size(); i += 5) {
     SCOPED_TRACE(ShortName(files[i]));
@@ -259,7 +260,7 @@ TEST(SeparationSearchTest, SharingMeshTablesChangesNoAnswer) {
 // Two searches sharing tables and buffers, called in turn on different q, answer exactly as
 // searches with their own: no call sees what the other's last call left in the buffers.
 TEST(SeparationSearchTest, AlternatingCallsOfSharingSearchesChangeNoAnswer) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   size_t compared = 0;  // violations, so that the test cannot pass on empty lists alone
   for (size_t i = 0; i < files.size(); i += 5) {
@@ -292,7 +293,7 @@ TEST(SeparationSearchTest, AlternatingCallsOfSharingSearchesChangeNoAnswer) {
 // blocks it reaches (core/separation_search_tables.h): one search called on a sequence of q, in
 // either order, answers every q exactly as a fresh search does, whatever earlier calls built.
 TEST(SeparationSearchTest, ReusedSearchAnswersAsAFreshOneInAnyOrder) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   size_t compared = 0;  // violations, so that the test cannot pass on empty lists alone
   for (size_t i = 0; i < files.size(); i += 3) {

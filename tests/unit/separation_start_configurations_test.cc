@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/separation_start_configurations.h"
 
 #include <algorithm>
@@ -17,7 +18,7 @@ using ::ispq::testing::GridPoint;
 using ::ispq::testing::GridTMesh;
 using ::ispq::testing::GridTMeshSpec;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
 using ::ispq::testing::ShortName;
 using ::ispq::testing::TMeshOrDie;
 
@@ -77,7 +78,7 @@ EntityId LinkThrough(const Grid& g, const GridPoint& a, const GridPoint& b) {
 // Single cube: a sector per outgoing halfarc of each corner, and per face at each edge link;
 // a link sector may leave the link at either end, into its face.
 TEST(SeparationStartConfigurationsTest, SingleCube) {
-  const TMesh cube = LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const SeparationStartConfigurations configs(cube);
   ASSERT_EQ(configs.size(), 8 * 3 + 12 * 2);
   for (int i = 0; i < configs.size(); ++i) {
@@ -176,8 +177,8 @@ TEST(SeparationStartConfigurationsTest, LinkInsideAPatchSide) {
 // On real data: every critical node has one configuration per outgoing halfarc, every link one
 // per halfpatch around its first halfarc; branch-offs leave the link axis, start on the link's
 // line and are distinct; PreArcs contains the first link arc.
-TEST(SeparationStartConfigurationsTest, SharedMeshes) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(SeparationStartConfigurationsTest, RealMeshes) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));

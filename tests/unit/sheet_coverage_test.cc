@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Which thorough-pass checks a non-improving sheet answers, and for how long.
 #include "core/isp/sheet_coverage.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Bound propagation (core/isp/sheet_infeasibility.h) never refutes a request the LP can satisfy,
 // and refutes many that it cannot: every root in both directions, on real and synthetic meshes,
 // at a quantization moved off zero and with tight separation-like rows, answered by one LP that
@@ -125,12 +126,12 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(Case{"notch",
                            [] {
                              return testing::LoadTMeshOrDie(
-                                 testing::BundledSample("s07c_notch.tmesh.json"));
+                                 testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
                            }},
                       Case{"cube_corner_sub_sphere",
                            [] {
                              return testing::LoadTMeshOrDie(
-                                 testing::SharedTMeshDir() +
+                                 testing::RealTMeshDir() +
                                  "/hex-me/s14b_cube_corner_sub_sphere.tmesh.json");
                            }},
                       Case{"large_single_1000",

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Every back end of the sheet LPs (core/isp/sheet_lp.h): known optima, infeasibility, and
 // warm-started solves after in-place edits agreeing with CLP's solves of freshly built models.
 #include "core/isp/sheet_lp.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // One pump step: the integer sheet of a subproblem's LP vertex, its multiplicity at the vertex of
 // the objective, capped by the active rows, refused when a row would break, and nothing at all
 // once the run must stop.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The per-subproblem sheet LP: a sheet on a single cube, floors, separating (self-inflating)
 // solves, and the half-integral U-turn of the paper's Figs. 6 and 7.
 #include "core/isp/sheet_subproblem.h"
@@ -23,7 +24,7 @@ using ::ispq::testing::Pump;
 using ::ispq::testing::SheetLpFixture;
 
 TEST(SheetSubproblemTest, SheetOnASingleCubeIsOneAxisLayer) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   SheetLpFixture fixture(mesh, 0.05);
   ASSERT_EQ(fixture.bundles().num_bundles(), 3);
   for (BundleId root = 0; root < 3; ++root) {
@@ -37,7 +38,7 @@ TEST(SheetSubproblemTest, SheetOnASingleCubeIsOneAxisLayer) {
 }
 
 TEST(SheetSubproblemTest, FloorsBlockDeflationBelowZeroWithoutTheSolver) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   SheetLpFixture fixture(mesh, 0.05);
   RationalSheet sheet;
   const int64_t calls = fixture.lp().solver_calls();
@@ -58,7 +59,7 @@ TEST(SheetSubproblemTest, FloorsBlockDeflationBelowZeroWithoutTheSolver) {
 }
 
 TEST(SheetSubproblemTest, AnAppendedRowBoundsDeflation) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   SheetLpFixture fixture(mesh, 0.05, {.extent_rows = false});
   // Without C rows nothing stops a deflation below 0...
   RationalSheet sheet;
@@ -75,7 +76,7 @@ TEST(SheetSubproblemTest, AnAppendedRowBoundsDeflation) {
 }
 
 TEST(SheetSubproblemTest, ViolatedRowsInflateASeparatingSheet) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s01c_cube.tmesh.json"));
+  const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   SheetLpFixture fixture(mesh, 0.05);
   // x_0 + x_2 >= 1 and x_2 - x_1 >= 1 at q = 0: the cheapest fix inflates bundle 2 alone.
   const std::vector<int32_t> added = {fixture.AddRow({{0, 1}, {2, 1}}, 1, true),
@@ -103,7 +104,8 @@ TEST(SheetSubproblemTest, ViolatedRowsInflateASeparatingSheet) {
 
 TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
   // The notch has T-junctions, hence consistency rows that bundling does not eliminate.
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   SheetLpFixture fixture(mesh, 0.2);
   RationalSheet rational;
   const absl::StatusOr<bool> feasible = fixture.lp().Solve(Pump(0, true), &rational);
@@ -127,7 +129,8 @@ TEST(SheetSubproblemTest, IsConsistentChecksIntegerSheetsExactly) {
 // the root's pump bound) or some may (1.5), every root in both directions gets the answer it
 // gets without a cap, because such solves are repeated without it.
 TEST(SheetSubproblemTest, ColumnCapNeverChangesAnAnswer) {
-  const TMesh mesh = testing::LoadTMeshOrDie(testing::BundledSample("s07c_notch.tmesh.json"));
+  const TMesh mesh =
+      testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
   SheetLpFixture uncapped(mesh, 0.2, {.column_cap = kLpInfinity});
   for (const double cap : {0.5, 1.5, SheetLpContext{}.column_cap}) {
     SCOPED_TRACE(cap);

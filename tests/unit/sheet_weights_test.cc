@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The 3-tier unfavorability weights of eq. (4).
 #include "core/isp/sheet_weights.h"
 

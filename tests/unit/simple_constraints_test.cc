@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "core/simple_constraints.h"
 
 #include <algorithm>
@@ -10,9 +11,9 @@
 namespace ispq {
 namespace {
 
-using ::ispq::testing::BundledSample;
 using ::ispq::testing::LoadTMeshOrDie;
-using ::ispq::testing::SharedTMeshFiles;
+using ::ispq::testing::RealTMeshFiles;
+using ::ispq::testing::RealTMeshPath;
 using ::ispq::testing::ShortName;
 
 int CountKind(const std::vector<SimpleRow>& rows, SimpleRowKind kind) {
@@ -52,7 +53,7 @@ TEST(SeparationRowTest, RowEncoding) {
 
 // T3: 12 link rows, 6 region rows, 3 block rows, in that order.
 TEST(SimpleConstraintsTest, SingleCubeRows) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const std::vector<SimpleRow> rows = BuildSimpleRows(cube, std::nullopt);
   ASSERT_EQ(rows.size(), 21u);
   for (int i = 0; i < 12; ++i) {
@@ -81,7 +82,7 @@ TEST(SimpleConstraintsTest, SingleCubeRows) {
 }
 
 TEST(SimpleConstraintsTest, SingleCubeViolations) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const std::vector<SimpleRow> rows = BuildSimpleRows(cube, std::nullopt);
 
   EXPECT_TRUE(Violated(rows, std::vector<int64_t>(12, 1)).empty());
@@ -104,7 +105,7 @@ TEST(SimpleConstraintsTest, SingleCubeViolations) {
 }
 
 TEST(SimpleConstraintsTest, PerArcLowerBoundRowsComeFirst) {
-  const TMesh cube = LoadTMeshOrDie(BundledSample("s01c_cube.tmesh.json"));
+  const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const std::vector<SimpleRow> rows = BuildSimpleRows(cube, int64_t{0});
   ASSERT_EQ(rows.size(), 33u);
   for (ArcId a = 0; a < 12; ++a) {
@@ -122,10 +123,10 @@ TEST(SimpleConstraintsTest, PerArcLowerBoundRowsComeFirst) {
   EXPECT_EQ(violated[1]->kind, SimpleRowKind::kLink);
 }
 
-// On every shared mesh: one row per link over its arcs, one per region over the distinct arcs of
+// On every real mesh: one row per link over its arcs, one per region over the distinct arcs of
 // its patches, three per block; q = 0 collapses every link and region but no block.
-TEST(SimpleConstraintsTest, SharedMeshes) {
-  const std::vector<std::string> files = SharedTMeshFiles();
+TEST(SimpleConstraintsTest, RealMeshes) {
+  const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     SCOPED_TRACE(ShortName(file));

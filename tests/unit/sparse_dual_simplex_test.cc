@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The sparse dual simplex (core/isp/sparse_dual_simplex.h) against CLP on long sequences of the
 // edits the quantizer makes to a sheet LP, on its own edge cases, and on what it gives up on.
 #include "core/isp/sparse_dual_simplex.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The subproblems of a run: one per initial component, rows routed to their LPs, merges when a
 // row couples two; and the row roles on top of them (core/isp/separation_rows.h): C active from
 // the start with its floors, simple rows held aside and activated all at once, structural rows

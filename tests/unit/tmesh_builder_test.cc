@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // TMeshBuilder on plain data, without protobuf: a unit cube (one block, six boundary patches)
 // written out element by element is built with its derived adjacency and critical entities,
 // broken rules are reported by element, and calls out of order are refused. The rules themselves
@@ -44,8 +45,11 @@ class UnitCube {
   }
 
   NodeInput Node(NodeId n) const {
-    // Three singular arcs meet at every corner: each node is critical.
-    return {.outgoing_halfarcs = outgoing_[n], .critical = true, .boundary = true};
+    // Three singular arcs meet at every corner: each node is SINGULAR and critical.
+    return {.outgoing_halfarcs = outgoing_[n],
+            .critical = true,
+            .boundary = true,
+            .singular_type = SingularType::kSingular};
   }
   ArcInput Arc(ArcId a) const {
     // A block edge on the boundary: one quarter turn where a flat boundary has two, singular.
@@ -145,6 +149,8 @@ TMeshHeader CubeHeader() {
 struct Edits {
   std::function<void(ArcId, ArcInput&)> arc = [](ArcId, ArcInput&) {};
   std::function<void(NodeId, NodeInput&)> node = [](NodeId, NodeInput&) {};
+  std::function<void(PatchId, PatchInput&)> patch = [](PatchId, PatchInput&) {};
+  std::function<void(BlockInput&)> block = [](BlockInput&) {};
 };
 
 absl::Status AddCube(const UnitCube& cube, TMeshBuilder& builder, const Edits& edits = {}) {
@@ -158,8 +164,14 @@ absl::Status AddCube(const UnitCube& cube, TMeshBuilder& builder, const Edits& e
     edits.arc(a, arc);
     ISPQ_RETURN_IF_ERROR(builder.AddArc(arc));
   }
-  for (PatchId p = 0; p < kNumDirs; ++p) ISPQ_RETURN_IF_ERROR(builder.AddPatch(cube.Patch(p)));
-  return builder.AddBlock(cube.Block());
+  for (PatchId p = 0; p < kNumDirs; ++p) {
+    PatchInput patch = cube.Patch(p);
+    edits.patch(p, patch);
+    ISPQ_RETURN_IF_ERROR(builder.AddPatch(patch));
+  }
+  BlockInput block = cube.Block();
+  edits.block(block);
+  return builder.AddBlock(std::move(block));
 }
 
 absl::StatusOr<TMesh> BuildCube(const Edits& edits = {}) {
@@ -209,6 +221,41 @@ TEST(TMeshBuilderTest, ConnectChecksHowElementsFitTogether) {
   EXPECT_EQ(mesh.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(mesh.status().message()), HasSubstr("node 0: outgoing halfarc"));
   EXPECT_THAT(std::string(mesh.status().message()), HasSubstr("is missing"));
+}
+
+TEST(TMeshBuilderTest, NodeTypesFollowTheirArcs) {
+  Edits edits;
+  edits.node = [](NodeId n, NodeInput& node) {
+    if (n == 3) node.singular_type = SingularType::kSemiSingular;
+  };
+  EXPECT_EQ(BuildCube(edits).status().message(),
+            "node 3: singularType SEMI_SINGULAR but 3 singular arcs meet there (SINGULAR)");
+  edits.node = [](NodeId n, NodeInput& node) {
+    if (n == 6) node.feature_type = FeatureType::kFeature;
+  };
+  EXPECT_EQ(BuildCube(edits).status().message(),
+            "node 6: featureType FEATURE but its marks make it REGULAR (0 feature and 3 singular "
+            "arcs, not a feature node)");
+}
+
+TEST(TMeshBuilderTest, AHalfpatchFacesItsBlock) {
+  // Patch 2 (face POS_V) put on the block's side of its other halfpatch, whose cycle runs the
+  // other way round: everything still names everything else consistently, but halfpatch 5
+  // turns about the outward normal.
+  const std::vector<HalfpatchId> halfpatches = {0, 2, 5, 6, 8, 10};
+  Edits edits;
+  edits.patch = [](PatchId p, PatchInput& patch) {
+    if (p != 2) return;
+    patch.blocks = {kNoId, 0};
+    patch.face_sides = {Dir::kPosU, Dir::kPosV};
+  };
+  edits.block = [&halfpatches](BlockInput& block) { block.halfpatches = halfpatches; };
+  const absl::StatusOr<TMesh> mesh = BuildCube(edits);
+  EXPECT_EQ(mesh.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_THAT(std::string(mesh.status().message()),
+              HasSubstr("patch 2: the cycle of halfpatch 5 turns about POS_V at node "));
+  EXPECT_THAT(std::string(mesh.status().message()),
+              HasSubstr("where it must turn about NEG_V, the normal into block 0"));
 }
 
 TEST(TMeshBuilderTest, ChecksAListedEntityListAndLevels) {

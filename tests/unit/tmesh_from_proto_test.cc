@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Validation of T-mesh messages: every real file is accepted, and a table of corruptions, each
 // generated from a real file, is rejected with a message that names the offending element.
 #include "core/proto/tmesh_from_proto.h"
@@ -25,9 +26,16 @@ using ::testing::HasSubstr;
 
 // A real mesh with interior patches and non-identity transitions.
 const v1::TMesh& Tetrahedron() {
-  static const v1::TMesh* const kMesh =
-      new v1::TMesh(testing::LoadProtoOrDie(testing::BundledSample("s04u_tetrahedron.tmesh.json")));
+  static const v1::TMesh* const kMesh = new v1::TMesh(
+      testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json")));
   return *kMesh;
+}
+
+int FirstNode(const v1::TMesh& m, const std::function<bool(const v1::Node&)>& predicate) {
+  for (int n = 0; n < m.nodes_size(); ++n) {
+    if (predicate(m.nodes(n))) return n;
+  }
+  return -1;
 }
 
 int FirstInteriorPatch(const v1::TMesh& m, bool non_identity) {
@@ -63,6 +71,10 @@ std::vector<Corruption> Corruptions() {
   const int rotated = FirstInteriorPatch(m, /*non_identity=*/true);
   const std::string interior_name = "patch " + std::to_string(interior) + ":";
   const std::string rotated_name = "patch " + std::to_string(rotated) + ":";
+  const int singular_node = FirstNode(
+      m, [](const v1::Node& n) { return n.singular_type() == v1::SingularType::SINGULAR; });
+  const int semi_feature_node = FirstNode(
+      m, [](const v1::Node& n) { return n.feature_type() == v1::FeatureType::SEMI_FEATURE; });
   return {
       {"empty mesh", [](v1::TMesh& t) { t.clear_nodes(); }, "the mesh has no nodes"},
       {"no blocks", [](v1::TMesh& t) { t.clear_blocks(); }, "the mesh has no blocks"},
@@ -176,6 +188,17 @@ std::vector<Corruption> Corruptions() {
       {"node critical flag",
        [](v1::TMesh& t) { t.mutable_nodes(0)->set_critical(!t.nodes(0).critical()); },
        "node 0: critical flag"},
+      {"node singular type",
+       [singular_node](v1::TMesh& t) {
+         t.mutable_nodes(singular_node)->set_singular_type(v1::SingularType::SEMI_SINGULAR);
+       },
+       "node " + std::to_string(singular_node) + ": singularType SEMI_SINGULAR but"},
+      {"node feature type",
+       [semi_feature_node](v1::TMesh& t) {
+         t.mutable_nodes(semi_feature_node)->set_feature_type(v1::FeatureType::REGULAR);
+       },
+       "node " + std::to_string(semi_feature_node) +
+           ": featureType REGULAR but its marks make it SEMI_FEATURE"},
       {"patch block huge id", [](v1::TMesh& t) { t.mutable_patches(0)->set_blocks(0, kHugeId); },
        "patch 0: block 2147483647 does not exist"},
       {"patch self adjacent",
@@ -189,6 +212,21 @@ std::vector<Corruption> Corruptions() {
          cycle->SwapElements(0, 1);
        },
        "patch 1: cycle is not closed"},
+      {"halfpatch faces away from its block",
+       [](v1::TMesh& t) {
+         // Boundary patch 0 moved to its other side: every list still agrees, but the cycle of
+         // the halfpatch now facing the block winds about the outward normal.
+         v1::Patch& patch = *t.mutable_patches(0);
+         const int32_t b = patch.blocks(0);
+         patch.set_blocks(0, -1);
+         patch.set_blocks(1, b);
+         patch.set_sides(1, patch.sides(0));
+         patch.set_sides(0, v1::NONE);
+         for (int32_t& hp : *t.mutable_blocks(b)->mutable_halfpatches()) {
+           if (hp == 0) hp = 1;
+         }
+       },
+       "patch 0: the cycle of halfpatch 1 turns about"},
       {"patch halfarc huge id",
        [](v1::TMesh& t) { t.mutable_patches(1)->set_halfarcs(0, kHugeId); },
        "patch 1: halfarc 2147483647 does not exist"},
@@ -249,6 +287,20 @@ std::vector<Corruption> Corruptions() {
          t.mutable_patches(0)->mutable_transition()->set_translation(0, std::nan(""));
        },
        "patch 0: transition translation is not finite"},
+      {"transition translation shifted",
+       [rotated](v1::TMesh& t) {
+         auto* translation =
+             t.mutable_patches(rotated)->mutable_transition()->mutable_translation();
+         translation->Set(0, translation->Get(0) + 0.5);
+       },
+       rotated_name + " transition translation ["},
+      {"transition translation zero where it is not",
+       [rotated](v1::TMesh& t) {
+         auto* translation =
+             t.mutable_patches(rotated)->mutable_transition()->mutable_translation();
+         for (int i = 0; i < 3; ++i) translation->Set(i, 0);
+       },
+       rotated_name + " transition translation [0,0,0] does not carry node"},
       {"block seven corners",
        [](v1::TMesh& t) { t.mutable_blocks(0)->mutable_corners()->RemoveLast(); },
        "block 0: has 7 corners, not 8"},
@@ -362,7 +414,7 @@ TEST(CorruptionTest, TableIsLargeAndAllKindsDiffer) {
 // Critical entities are derived from the mesh, never taken from the request (issue 7): a mesh
 // without its list gets exactly the file's entities, on every real mesh.
 TEST(TMeshFromProtoTest, CriticalEntitiesAreDerivedWhenTheListIsLeftOut) {
-  const std::vector<std::string> files = testing::SharedTMeshFiles();
+  const std::vector<std::string> files = testing::RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   for (const std::string& file : files) {
     v1::TMesh proto = testing::LoadProtoOrDie(file);
@@ -381,6 +433,22 @@ TEST(TMeshFromProtoTest, CriticalEntitiesAreDerivedWhenTheListIsLeftOut) {
       EXPECT_THAT(derived->entity_patches(e),
                   ::testing::ElementsAreArray(listed.entity_patches(e)));
     }
+  }
+}
+
+// Translations may be omitted (proto/README.md, section Transitions): every real mesh loads
+// without them, with the same arcs and critical entities, as the benchmark's compact files do.
+TEST(TMeshFromProtoTest, OmittedTranslationsAreNotChecked) {
+  for (const std::string& file : testing::RealTMeshFiles()) {
+    v1::TMesh proto = testing::LoadProtoOrDie(file);
+    const TMesh full = testing::TMeshOrDie(proto);
+    for (v1::Patch& patch : *proto.mutable_patches()) {
+      patch.mutable_transition()->clear_translation();
+    }
+    const absl::StatusOr<TMesh> compact = TMeshFromProto(proto);
+    ASSERT_TRUE(compact.ok()) << file << ": " << compact.status();
+    EXPECT_EQ(compact->num_arcs(), full.num_arcs()) << file;
+    EXPECT_EQ(compact->num_entities(), full.num_entities()) << file;
   }
 }
 
@@ -406,7 +474,7 @@ std::string ReplaceFirst(std::string text, const std::string& from, const std::s
 
 TEST(TMeshJsonTest, MalformedDocumentsAreRejected) {
   const std::string json =
-      *ReadFileToString(testing::BundledSample("s04u_tetrahedron.tmesh.json"), 1 << 20);
+      *ReadFileToString(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json"), 1 << 20);
   const std::vector<JsonCorruption> cases = {
       {"truncated", [](const std::string& s) { return s.substr(0, s.size() / 2); },
        "not a T-mesh JSON document"},

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The slack of each bundle's window (core/exact/window_slacks.h): per independent component where
 // the known q satisfies the component's rows, the global slack elsewhere.
 #include "core/exact/window_slacks.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // The ispq web view: lists the server's jobs, starts one from an uploaded T-mesh, and follows a
 // job live over server-sent events (GET /v1/jobs/{id}:watch), drawing its objective over time.
 // Plain JavaScript against the server's JSON API; nothing is loaded from elsewhere.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "tests/bench/large/large_tmesh_generator.h"
 
 #include <algorithm>
@@ -128,16 +129,44 @@ const char* LargeFamilyName(LargeFamily family) {
       return "slabs";
     case LargeFamily::kRotated:
       return "rotated";
+    case LargeFamily::kAssembly16:
+      return "assembly16";
+    case LargeFamily::kAssembly50:
+      return "assembly50";
+    case LargeFamily::kAssembly100:
+      return "assembly100";
   }
   return "?";
 }
 
 std::optional<LargeFamily> LargeFamilyFromName(const std::string& name) {
   for (LargeFamily f :
-       {LargeFamily::kSingleSubproblem, LargeFamily::kSlabs, LargeFamily::kRotated}) {
+       {LargeFamily::kSingleSubproblem, LargeFamily::kSlabs, LargeFamily::kRotated,
+        LargeFamily::kAssembly16, LargeFamily::kAssembly50, LargeFamily::kAssembly100}) {
     if (name == LargeFamilyName(f)) return f;
   }
   return std::nullopt;
+}
+
+std::optional<AssemblyDensity> AssemblyDensityOf(LargeFamily family) {
+  AssemblyDensity d;
+  d.name = LargeFamilyName(family);
+  switch (family) {
+    case LargeFamily::kAssembly16:
+      d.part_min = 3, d.part_max = 6, d.block_max = 3, d.feature_share = 0.35;
+      d.voids_per_part = 0.85, d.edge_share = 0;
+      return d;
+    case LargeFamily::kAssembly50:
+      d.part_min = 2, d.part_max = 4, d.block_max = 3, d.feature_share = 0.7;
+      d.voids_per_part = 2, d.edge_share = 0.5;
+      return d;
+    case LargeFamily::kAssembly100:  // parts of 2 cells a side, every interface a feature
+      d.part_min = 2, d.part_max = 2, d.block_max = 3, d.feature_share = 1;
+      d.voids_per_part = 3, d.edge_share = 1;
+      return d;
+    default:
+      return std::nullopt;
+  }
 }
 
 testing::GridTMeshSpec LargePartSpec(LargeFamily family, const LargePartShape& shape,
@@ -181,6 +210,9 @@ testing::GridTMeshSpec LargePartSpec(LargeFamily family, const LargePartShape& s
 
 absl::StatusOr<testing::GridTMesh> BuildLargeTMesh(LargeFamily family, int target_arcs,
                                                    uint64_t seed) {
+  if (const std::optional<AssemblyDensity> density = AssemblyDensityOf(family)) {
+    return BuildAssemblyTMesh(*density, target_arcs, seed);
+  }
   // Arcs grow with the cell count; proportions 2 : 1.5 : 1.
   auto shape_for = [](double cells) {
     const double unit = std::cbrt(cells / 3.0);
@@ -192,6 +224,7 @@ absl::StatusOr<testing::GridTMesh> BuildLargeTMesh(LargeFamily family, int targe
   absl::StatusOr<testing::GridTMesh> mesh;
   for (int attempt = 0; attempt < 4; ++attempt) {
     const LargePartShape shape = shape_for(cells);
+    mesh = absl::UnknownError("not built");  // frees the previous attempt first
     mesh = testing::BuildGridTMesh(LargePartSpec(family, shape, seed));
     if (!mesh.ok()) return mesh.status();
     const double arcs = mesh->proto().arcs_size();

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Large synthetic T-meshes for the scaling benchmark: connected polycube-like parts built on the
 // grid builder (tests/support/grid_tmesh_builder.h), deterministic for a seed.
 //
@@ -10,6 +11,10 @@
 //                      subproblem beside the coupled horizontal ones;
 //   kRotated           as kSingleSubproblem, every block in a random frame, so that every
 //                      interior patch carries a transition.
+// These have a fixed number of features, so their critical entities per arc fall with the size
+// (0.0065 at 87.6k arcs). The assembly families (assembly_tmesh_generator.h) keep the density of
+// real T-meshes at every size:
+//   kAssembly16, kAssembly50, kAssembly100   about 0.16, 0.5 and 1.0 critical entities per arc.
 // Not part of the product: only benchmarks use it.
 #ifndef ISPQ_TESTS_BENCH_LARGE_LARGE_TMESH_GENERATOR_H_
 #define ISPQ_TESTS_BENCH_LARGE_LARGE_TMESH_GENERATOR_H_
@@ -19,11 +24,19 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "tests/bench/large/assembly_tmesh_generator.h"
 #include "tests/support/grid_tmesh_builder.h"
 
 namespace ispq::bench {
 
-enum class LargeFamily { kSingleSubproblem, kSlabs, kRotated };
+enum class LargeFamily {
+  kSingleSubproblem,
+  kSlabs,
+  kRotated,
+  kAssembly16,
+  kAssembly50,
+  kAssembly100
+};
 
 const char* LargeFamilyName(LargeFamily family);
 std::optional<LargeFamily> LargeFamilyFromName(const std::string& name);
@@ -32,7 +45,10 @@ struct LargePartShape {
   int cells_u = 8, cells_v = 6, cells_w = 4;  // the bounding box in cells
 };
 
-// The grid spec of a part with this shape.
+// The assembly families' density presets; nullopt for the other families.
+std::optional<AssemblyDensity> AssemblyDensityOf(LargeFamily family);
+
+// The grid spec of a part with this shape (not for the assembly families).
 testing::GridTMeshSpec LargePartSpec(LargeFamily family, const LargePartShape& shape,
                                      uint64_t seed);
 

@@ -1,7 +1,9 @@
+// SPDX-License-Identifier: Apache-2.0
 // One run of the scaling benchmark (run_scaling.py drives it): quantizes one T-mesh file at one
 // level in-process, single-threaded, and prints one TSV row (with --header, the header first):
 //
 //   ispq_scaling_run --mesh F.tmesh.pb --level P [--header] [--time_limit S] [--cold_solve_memory]
+//   ispq_scaling_run --mesh F.tmesh.json --stats_only [--header]
 //
 // Columns: arcs, level, the solve's CPU seconds in total and per phase (greedy descent,
 // separation search, separating updates; CPU time of the solving thread), LP solves, separation
@@ -11,7 +13,12 @@
 // greedy descent, at the first separating q and at the end, the peak of loading the mesh file
 // before it, the CPU seconds of tracing the layered start (core/isp/parametric_layers.h) and,
 // with --cold_solve_memory, the solve's own peak (-1 without, or if that second solve did not end
-// with the same q).
+// with the same q). Then the mesh's statistics (MeshStatsColumns below), which say how hard the
+// mesh is beside its size: blocks, critical entities (nodes, links, regions) and arcs, critical
+// entities per arc and the critical arcs' share, bundles and arcs per bundle, the subproblems of
+// the decomposition before the solve and the largest one's bundles. --stats_only prints these
+// alone, without solving (run_scaling.py uses it on the real T-meshes, to set the families beside
+// them).
 //
 // The timed solve runs as `ispq quantize --local` runs it: the mesh is loaded, its messages are
 // freed, and the solve reuses the freed memory the process keeps. Its peak columns are the
@@ -23,19 +30,26 @@
 // which no real run pays: the first separating q of a 100k-arc part took 2.1-2.5x the CPU.
 #include <malloc.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
+#include "core/arc_bundles.h"
+#include "core/consistency_matrix.h"
 #include "core/isp/run_clock.h"
+#include "core/mesh_stats.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
+#include "core/subproblems.h"
 #include "tests/support/test_data.h"
 
 ABSL_FLAG(std::string, mesh, "", "T-mesh file (.pb or .json)");
@@ -46,6 +60,7 @@ ABSL_FLAG(bool, timeline, false,
 ABSL_FLAG(double, time_limit, std::numeric_limits<double>::infinity(), "seconds");
 ABSL_FLAG(bool, cold_solve_memory, false,
           "solve again after malloc_trim to measure the solve's own peak memory");
+ABSL_FLAG(bool, stats_only, false, "print the mesh's statistics only, without solving");
 
 namespace ispq::bench {
 namespace {
@@ -85,6 +100,31 @@ double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options,
     return -1;
   }
   return peak;
+}
+
+// The mesh's statistics as TSV columns: a header and a row, each starting with a tab. The counts
+// are `ispq stats --json`'s (core/mesh_stats.h); the largest subproblem is measured in bundles, the
+// size of its LP. Computed apart from the solve, so none of it is timed.
+std::pair<std::string, std::string> MeshStatsColumns(const TMesh& mesh) {
+  const MeshStats s = ComputeMeshStats(mesh);
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  const Subproblems subproblems(mesh, consistency, bundles);
+  size_t largest = 0;
+  for (int i = 0; i < subproblems.num_subproblems(); ++i) {
+    largest = std::max(largest, subproblems.bundles(i).size());
+  }
+  const double arcs = s.arcs;
+  std::ostringstream row;
+  row << "\t" << s.blocks << "\t" << s.critical_entities << "\t" << s.critical_nodes << "\t"
+      << s.critical_links << "\t" << s.critical_regions << "\t" << s.critical_arcs << "\t"
+      << s.critical_entities / arcs << "\t" << s.critical_arcs / arcs << "\t" << s.bundles << "\t"
+      << arcs / s.bundles << "\t" << s.subproblems << "\t" << largest;
+  return {
+      "\tblocks\tcritical_entities\tcritical_nodes\tcritical_links\tcritical_regions\t"
+      "critical_arcs\tentities_per_arc\tcritical_arc_share\tbundles\tarcs_per_bundle\t"
+      "mesh_subproblems\tlargest_subproblem_bundles",
+      row.str()};
 }
 
 // Watches the run: memory when the first descent ends, time and objective of the first
@@ -129,6 +169,12 @@ class RunWatcher : public ProgressObserver {
 
 int Run() {
   const TMesh mesh = testing::LoadTMeshOrDie(absl::GetFlag(FLAGS_mesh));
+  if (absl::GetFlag(FLAGS_stats_only)) {
+    const auto [header, row] = MeshStatsColumns(mesh);
+    if (absl::GetFlag(FLAGS_header)) std::printf("arcs%s\n", header.c_str());
+    std::printf("%d%s\n", mesh.num_arcs(), row.c_str());
+    return 0;
+  }
   const double load_peak_rss = PeakRssMib();
   ResetPeakRss();
   double scaling = 0;
@@ -155,24 +201,27 @@ int Run() {
   const bool valid = result->valid && report.ok() && report->valid();
   const double cold_peak_rss =
       absl::GetFlag(FLAGS_cold_solve_memory) ? ColdSolvePeakRssMib(mesh, options, result->q) : -1;
+  const auto [stats_header, stats_row] = MeshStatsColumns(mesh);
   if (absl::GetFlag(FLAGS_header)) {
     std::printf(
         "arcs\tlevel\tcpu_s\tgreedy_cpu_s\tsearch_cpu_s\tseparating_cpu_s\tlp_solves\t"
         "sep_rounds\tsep_rows\tsubproblems\tobjective\tvalid\ttermination\t"
         "first_separating_cpu_s\tfirst_separating_objective\tgreedy_rss_mib\t"
         "first_separating_rss_mib\tpeak_rss_mib\tload_peak_rss_mib\tlayers_cpu_s\t"
-        "cold_solve_peak_rss_mib\n");
+        "cold_solve_peak_rss_mib%s\n",
+        stats_header.c_str());
   }
   const QuantizeStats& s = result->stats;
   std::printf(
       "%d\t%d\t%.4f\t%.4f\t%.4f\t%.4f\t%lld\t%lld\t%lld\t%d\t%.6f\t%d\t%s\t%.4f\t%.6f\t%.1f\t%."
-      "1f\t%.1f\t%.1f\t%.4f\t%.1f\n",
+      "1f\t%.1f\t%.1f\t%.4f\t%.1f%s\n",
       mesh.num_arcs(), absl::GetFlag(FLAGS_level), cpu, s.greedy_seconds,
       s.separation_search_seconds, s.separating_update_seconds, static_cast<long long>(s.lp_solves),
       static_cast<long long>(s.separation_rounds), static_cast<long long>(s.separation_rows),
       s.subproblems, result->objective, valid ? 1 : 0, TerminationName(result->termination),
       watcher.first_separating_cpu_, watcher.first_separating_objective_, watcher.greedy_rss_,
-      watcher.first_separating_rss_, peak_rss, load_peak_rss, s.layers_seconds, cold_peak_rss);
+      watcher.first_separating_rss_, peak_rss, load_peak_rss, s.layers_seconds, cold_peak_rss,
+      stats_row.c_str());
   return valid ? 0 : 3;
 }
 

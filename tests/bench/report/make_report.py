@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Turns the benchmark tables into the report: one self-contained HTML page with PNG plots.
 
 Reads what tests/bench/report/make_report.sh wrote into --data (ispq_bench's TSVs: isp.tsv,
@@ -556,13 +557,14 @@ def claims_table(h):
          f"({percent(h['mixed_better'], h['instances']):.0f}%), by > 5% in "
          f"{h['mixed_much_better']}, worse in {h['mixed_worse']}; best-case factor "
          f"{h['mixed_factor']:.2f}"),
-        ("Open-source IQP vs. ISP run time (Fig. 11, 13; shared/reference)",
+        ("Open-source IQP vs. ISP run time (Fig. 11, 13; tests/data/reference)",
          "IQP (Bonmin) 1–2 orders of magnitude slower; upstream IQP median 5.5× upstream ISP",
          f"exact mode (CBC, after ISP) median {median(h['exact_times_iqp']):.3f} s, max "
          f"{max(h['exact_times_iqp'], default=0):.2f} s on the IQP's instances, where upstream "
          f"IQP takes median {median(h['ref_iqp_times']):.2f} s, max "
          f"{max(h['ref_iqp_times'], default=0):.1f} s"),
-        ("ISP run time on the whole set (shared/reference)", "upstream: median 0.11 s, total 128 s",
+        ("ISP run time on the whole set (tests/data/reference)",
+         "upstream: median 0.11 s, total 128 s",
          f"median {1000 * median(h['isp_times']):.1f} ms, max {max(h['isp_times']):.3f} s, "
          f"total {sum(h['isp_times']):.2f} s (with its lower bound)"),
         ("Exact mode proves optimality within 60 s on the IQP's instances (issue 12 target ≥ 90%)",
@@ -607,7 +609,7 @@ vertical-align:top;font-size:.92em}th{background:#f3f3f3}img{max-width:100%;marg
 .note{color:#555;font-size:.92em}</style></head><body>
 <h1>ispq benchmark report</h1>
 """)
-    buf.write(f"""<p>{h['instances']} instances (62 shared T-meshes × 8 levels), single-threaded,
+    buf.write(f"""<p>{h['instances']} instances (62 real T-meshes × 8 levels), single-threaded,
 in-process. ISP is the product's default; exact mode runs ISP, then CBC with the lazy separation
 loop. <b>The optimum</b> is exact mode's result where it is proven OPTIMAL ({h['proven']} of
 {h['instances']}): optimal for the separation rows its loop found. Those rows are sufficient, not

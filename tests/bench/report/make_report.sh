@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # The benchmark report in one command: builds the benchmark, runs ISP (with its lower bound,
-# timed side by side without it), ISP without mixed-sign sheets and exact mode on every shared
+# timed side by side without it), ISP without mixed-sign sheets and exact mode on every real
 # T-mesh at all 8 levels, and turns the tables into a self-contained HTML page with PNG plots
 # that reproduce the ISP paper's Figs. 8, 11, 13 and 14 and its headline claims on our data and
 # our machine (tests/bench/report/make_report.py).
@@ -36,5 +37,5 @@ fi
 # another installation without it).
 python=/usr/bin/python3
 [ -x "$python" ] || python=python3
-"$python" tests/bench/report/make_report.py --data "$out" --reference ../shared/reference \
+"$python" tests/bench/report/make_report.py --data "$out" --reference tests/data/reference \
   --out "$out/report.html"

@@ -1,4 +1,5 @@
-// Every real T-mesh of the shared set loads through the JSON mapping, validates, and agrees with
+// SPDX-License-Identifier: Apache-2.0
+// Every real T-mesh (tests/data/tmesh) loads through the JSON mapping, validates, and agrees with
 // the counts its exporter wrote; opposite patch sides have equal continuous length.
 #include <cmath>
 
@@ -14,14 +15,14 @@
 namespace ispq {
 namespace {
 
-class SharedTMeshTest : public ::testing::TestWithParam<std::string> {};
+class RealTMeshTest : public ::testing::TestWithParam<std::string> {};
 
-TEST(SharedTMeshSetTest, IsPresent) {
-  // The shared set is required; without it the parameterized tests below would silently vanish.
-  EXPECT_EQ(testing::SharedTMeshFiles().size(), 62u) << "in " << testing::SharedTMeshDir();
+TEST(RealTMeshSetTest, IsPresent) {
+  // The real set is required; without it the parameterized tests below would silently vanish.
+  EXPECT_EQ(testing::RealTMeshFiles().size(), 62u) << "in " << testing::RealTMeshDir();
 }
 
-TEST_P(SharedTMeshTest, LoadsAndMatchesExporterCounts) {
+TEST_P(RealTMeshTest, LoadsAndMatchesExporterCounts) {
   const v1::TMesh proto = testing::LoadProtoOrDie(GetParam());
   const absl::StatusOr<TMesh> mesh = TMeshFromProto(proto);
   ASSERT_TRUE(mesh.ok()) << mesh.status();
@@ -40,7 +41,7 @@ TEST_P(SharedTMeshTest, LoadsAndMatchesExporterCounts) {
   EXPECT_EQ(mesh->levels().size(), 8u);
 }
 
-TEST_P(SharedTMeshTest, OppositePatchSidesHaveEqualContinuousLength) {
+TEST_P(RealTMeshTest, OppositePatchSidesHaveEqualContinuousLength) {
   const TMesh mesh = testing::LoadTMeshOrDie(GetParam());
   const ConsistencyMatrix consistency(mesh);
   for (int r = 0; r < consistency.num_rows(); ++r) {
@@ -53,7 +54,7 @@ TEST_P(SharedTMeshTest, OppositePatchSidesHaveEqualContinuousLength) {
   }
 }
 
-TEST_P(SharedTMeshTest, BundledArcsHaveEqualTargets) {
+TEST_P(RealTMeshTest, BundledArcsHaveEqualTargets) {
   // Arcs forced equal by consistency must have equal continuous lengths in a consistent input.
   const TMesh mesh = testing::LoadTMeshOrDie(GetParam());
   const ConsistencyMatrix consistency(mesh);
@@ -64,7 +65,7 @@ TEST_P(SharedTMeshTest, BundledArcsHaveEqualTargets) {
   }
 }
 
-TEST_P(SharedTMeshTest, NoConstraintCrossesSubproblems) {
+TEST_P(RealTMeshTest, NoConstraintCrossesSubproblems) {
   const TMesh mesh = testing::LoadTMeshOrDie(GetParam());
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
@@ -85,8 +86,7 @@ TEST_P(SharedTMeshTest, NoConstraintCrossesSubproblems) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(AllFiles, SharedTMeshTest,
-                         ::testing::ValuesIn(testing::SharedTMeshFiles()),
+INSTANTIATE_TEST_SUITE_P(AllFiles, RealTMeshTest, ::testing::ValuesIn(testing::RealTMeshFiles()),
                          [](const ::testing::TestParamInfo<std::string>& info) {
                            std::string name;
                            for (char c : testing::ShortName(info.param)) {
