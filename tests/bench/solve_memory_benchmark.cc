@@ -2,7 +2,7 @@
 // The memory a solve needs, against the server's estimate of it (server/job_memory.h): quantizes
 // T-mesh files at some levels with either method, in-process, and prints one TSV row per run:
 //
-//   ispq_solve_memory_bench [--real] [--meshes A.tmesh.json,B.pb] [--levels 5,25,100]
+//   ispq_solve_memory_bench [--real] [--meshes A.tmesh.json,B.pb] [--levels 5,25,100 | --scaling S]
 //                           [--methods isp,exact] [--copies K] [--decompose=false]
 //                           [--lower_bound auto|on|off] [--time_limit S] [--rss]
 //
@@ -10,15 +10,25 @@
 // ispq.v1.TMesh); --copies K solves K disjoint copies of each mesh (tests/support/tmesh_copies.h):
 // as many independent subproblems, each with an LP of its own.
 //
-// Columns: mesh, arcs, bundles, subproblems (as admission counts them), level, method,
-// termination, the peak of live heap bytes above the level before the call
+// Columns: mesh, arcs, bundles, subproblems (as admission counts them), level (0 with --scaling),
+// method, termination, the peak of live heap bytes above the level before the call
 // (tests/support/heap_peak.h: every allocation of every library, by usable size) in total and per
 // arc, the estimate SolverBytes() for the job and the ratio estimate / peak. With --rss also the
 // resident set's growth during a second, cold solve (after malloc_trim, the kernel's peak counter
-// reset): what the solve costs the process in touched pages, which is less than the heap where an
-// allocation is never written in full (the LP factorizations' work areas). Then the solve's wall
-// seconds and those of its lower bound, and a fingerprint of q, equal across builds that found
-// the same answer (a change meant to save memory must change no answer).
+// reset): what the solve costs the process in touched pages, less than the heap where allocations
+// are never written in full (the LP factorizations' work areas), more where the allocator's slack
+// and page granularity show (0.2-1.2 times the heap peak). Then the solve's wall seconds and
+// those of its lower bound, and a fingerprint of q, equal across builds that found the same
+// answer (a change meant to save memory must change no answer).
+//
+// server/job_memory.h was calibrated with (D=tests/data/tmesh/hex-me):
+//   --real --rss
+//   --meshes $D/s01c_cube.tmesh.json --copies 1000 (and 8000) --levels 25 --rss
+//   --meshes $D/{s07c_notch,s01b_cube,n09c_pyramid,s13u_cube_rounded_2}.tmesh.json --copies 1000
+//   --meshes <the femur shell of tests/data/tmesh/metamesh-guided-hexalab> --copies 200
+//   --meshes $D/{s01c_cube,s01b_cube,s07c_notch}.tmesh.json --copies 300 --decompose=false
+//   --meshes of ispq_make_large_tmesh --family single|assembly50|assembly16 --arcs 30000, and
+//            single at 100000 arcs, --rss; assembly16 at 100000 arcs at level 5
 //
 // The observer plays the server's part (server/progress_publisher.h): it asks for q at every
 // event and keeps the latest as 32-bit integers, as a job keeps its latest intermediate result.
@@ -38,6 +48,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "core/mesh_stats.h"
+#include "core/proto/mesh_stats_proto.h"
 #include "core/quantizer.h"
 #include "core/resolution_levels.h"
 #include "server/job_memory.h"
@@ -48,6 +59,7 @@
 ABSL_FLAG(bool, real, false, "every real T-mesh (tests/data/tmesh)");
 ABSL_FLAG(std::string, meshes, "", "comma-separated T-mesh files (.pb or .json)");
 ABSL_FLAG(std::string, levels, "5,25,100", "resolution levels, percent");
+ABSL_FLAG(double, scaling, 0, "a scaling factor instead of the levels");
 ABSL_FLAG(std::string, methods, "isp", "isp, exact or both (comma-separated)");
 ABSL_FLAG(bool, rss, false, "also measure the resident set's growth in a cold second solve");
 ABSL_FLAG(double, time_limit, -1, "seconds (default: the method's default)");
@@ -165,12 +177,14 @@ std::string Name(const std::string& file) {
 
 void MeasureMesh(const std::string& file) {
   const TMesh mesh = LoadMesh(file);
-  const MeshStats stats = ComputeMeshStats(mesh);
+  // As admission computes them (server/mesh_admission.cc).
+  const v1::MeshStats stats = MeshStatsToProto(ComputeMeshStats(mesh));
   for (absl::string_view method_name : absl::StrSplit(absl::GetFlag(FLAGS_methods), ',')) {
     const bool exact = method_name == "exact";
-    for (int level : Levels()) {
+    const double factor = absl::GetFlag(FLAGS_scaling);
+    for (int level : factor > 0 ? std::vector<int>{0} : Levels()) {
       QuantizeOptions options;
-      options.scaling = ScalingOf(mesh, level);
+      options.scaling = factor > 0 ? factor : ScalingOf(mesh, level);
       if (options.scaling == 0) continue;
       options.method = exact ? QuantizationMethod::kExact : QuantizationMethod::kIsp;
       options.decompose = absl::GetFlag(FLAGS_decompose);
@@ -185,12 +199,13 @@ void MeasureMesh(const std::string& file) {
         std::cerr << file << " level " << level << ": " << run.status() << "\n";
         continue;
       }
-      const int64_t estimate = server::SolverBytes(mesh.num_arcs());
+      const server::SolveSize size = server::SolveSizeOf(stats, options);
+      const int64_t estimate = server::SolverBytes(size);
       const int64_t rss = absl::GetFlag(FLAGS_rss) ? ColdRssGrowthBytes(mesh, options) : -1;
       std::printf(
           "%s\t%d\t%d\t%d\t%d\t%s\t%s\t%lld\t%.1f\t%lld\t%.2f\t%lld\t%.4f\t%.4f\t%016llx\n",
-          Name(file).c_str(), mesh.num_arcs(), stats.bundles, stats.subproblems, level,
-          exact ? "exact" : "isp", TerminationName(run->termination),
+          Name(file).c_str(), mesh.num_arcs(), stats.bundles(), static_cast<int>(size.subproblems),
+          level, exact ? "exact" : "isp", TerminationName(run->termination),
           static_cast<long long>(run->heap_peak),
           static_cast<double>(run->heap_peak) / mesh.num_arcs(), static_cast<long long>(estimate),
           static_cast<double>(estimate) / static_cast<double>(run->heap_peak),
