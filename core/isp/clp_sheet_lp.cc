@@ -92,6 +92,16 @@ class ClpSheetLp final : public SheetLp {
 
   SheetLpCounters counters() const override { return {.pivots = pivots_}; }
 
+  bool AppendBasis(std::vector<uint8_t>* is_basic) const override {
+    for (int j = 0; j < model_.numberColumns(); ++j) {
+      is_basic->push_back(model_.getColumnStatus(j) == ClpSimplex::basic);
+    }
+    for (int i = 0; i < model_.numberRows(); ++i) {
+      is_basic->push_back(model_.getRowStatus(i) == ClpSimplex::basic);
+    }
+    return true;
+  }
+
   std::span<const double> column_values() const override {
     return {model_.getColSolution(), static_cast<size_t>(model_.numberColumns())};
   }

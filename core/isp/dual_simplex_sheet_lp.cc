@@ -31,6 +31,10 @@ class DualSimplexSheetLp final : public SheetLp {
 
   absl::StatusOr<LpOutcome> Solve() override {
     used_fallback_ = false;
+    if (simplex_.most_costs_changed() &&
+        simplex_.num_columns() >= simplex_.options().new_objective_clp_min_columns) {
+      return SolveWithClp();
+    }
     switch (simplex_.Solve(PivotBudget())) {
       case SparseDualSimplex::Status::kOptimal:
         return LpOutcome::kOptimal;
@@ -60,10 +64,11 @@ class DualSimplexSheetLp final : public SheetLp {
   }
 
  private:
-  // A new objective (the switch of weight schemes, a separating update) sends the dual simplex
-  // back to the slack basis. Most such solves take under m/10 pivots from there; the ones that
-  // take more (separating updates: 23k pivots on 49k rows at 200k arcs) CLP solves from scratch
-  // in about half the time. 0: the options' limit.
+  // A new objective (the switch of weight schemes, a separating update, a bulk step) sends the
+  // dual simplex back to the slack basis. Most such solves take under m/10 pivots from there; the
+  // ones that take more (separating updates: 23k pivots on 49k rows at 200k arcs) CLP solves from
+  // scratch in about half the time, and on a large LP CLP gets them at once
+  // (SparseDualSimplexOptions::new_objective_clp_min_columns). 0: the options' limit.
   int64_t PivotBudget() const {
     if (!simplex_.most_costs_changed()) return 0;
     const SparseDualSimplexOptions& options = simplex_.options();
@@ -93,6 +98,11 @@ class DualSimplexSheetLp final : public SheetLp {
     fallback_pivots_ += clp->counters().pivots;
     if (outcome.ok() && *outcome == LpOutcome::kOptimal) {
       fallback_values_.assign(clp->column_values().begin(), clp->column_values().end());
+      // The sparse simplex goes on from CLP's optimal basis, not from where its budget ran out
+      // (or from the old objective's basis): the solves that follow, with a few rows or costs
+      // changed, are warm again.
+      std::vector<uint8_t> is_basic;
+      if (clp->AppendBasis(&is_basic)) simplex_.AdoptBasis(is_basic, fallback_values_);
     }
     return outcome;
   }

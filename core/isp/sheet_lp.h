@@ -98,6 +98,9 @@ class SheetLp {
   // Column values of the last solve that returned kOptimal.
   virtual std::span<const double> column_values() const = 0;
   virtual SheetLpCounters counters() const { return {}; }
+  // The basis of the last solve that returned kOptimal: appends a flag per column and then per row,
+  // set where that variable (a row's: its activity) is basic; false if the back end cannot say.
+  virtual bool AppendBasis(std::vector<uint8_t>* /*is_basic*/) const { return false; }
   // Appends the columns whose value in column_values() is non-zero, in any order (back ends that
   // track them answer without scanning every column).
   virtual void AppendNonzeroColumns(std::vector<int32_t>* columns) const {

@@ -8,6 +8,7 @@
 
 #include "CoinFactorization.hpp"
 #include "CoinIndexedVector.hpp"
+#include "absl/base/macros.h"
 
 namespace ispq {
 namespace {
@@ -46,8 +47,7 @@ SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOpt
       pending_primal_(std::make_unique<CoinIndexedVector>()),
       pending_cost_(std::make_unique<CoinIndexedVector>()),
       is_nonzero_nonbasic_(num_columns, 0),
-      alpha_(num_columns, 0.0),
-      unboxed_columns_(num_columns) {}
+      alpha_(num_columns, 0.0) {}
 
 SparseDualSimplex::~SparseDualSimplex() = default;
 
@@ -71,8 +71,6 @@ void SparseDualSimplex::SetObjectiveCoefficient(int column, double value) {
 }
 
 void SparseDualSimplex::SetColumnBounds(int column, double lower, double upper) {
-  unboxed_columns_ += static_cast<int>(!(IsFinite(lower) && IsFinite(upper))) -
-                      static_cast<int>(!(IsFinite(lower_[column]) && IsFinite(upper_[column])));
   lower_[column] = lower;
   upper_[column] = upper;
   if (status_[column] == VarStatus::kBasic) {
@@ -306,6 +304,44 @@ void SparseDualSimplex::ResetToSlackBasis() {
   for (int v = num_columns_; v < num_variables(); ++v) status_[v] = VarStatus::kBasic;
   factorization_valid_ = false;
   for (int j = 0; j < num_columns_; ++j) PlaceNonbasic(j);
+}
+
+void SparseDualSimplex::AdoptBasis(std::span<const uint8_t> is_basic,
+                                   std::span<const double> column_values) {
+  ABSL_ASSERT(is_basic.size() == static_cast<size_t>(num_variables()));
+  ABSL_ASSERT(column_values.size() == static_cast<size_t>(num_columns_));
+  at_artificial_bound_.clear();
+  std::fill(edge_weight_.begin(), edge_weight_.end(), 1.0);
+  factorization_valid_ = false;  // so that the moves below only record the values
+  for (int v = 0; v < num_variables(); ++v) {
+    position_[v] = -1;
+    if (is_basic[v]) {
+      status_[v] = VarStatus::kBasic;
+      continue;
+    }
+    double x = 0;  // a logical's value is its row's activity
+    if (IsLogical(v)) {
+      const int row = v - num_columns_;
+      for (int32_t t = row_start_[row]; t < row_start_[row + 1]; ++t) {
+        x += row_coef_[t] * column_values[row_column_[t]];
+      }
+    } else {
+      x = column_values[v];
+    }
+    const double l = lower_[v], u = upper_[v];
+    const bool at_lower = IsFinite(l) && (!IsFinite(u) || std::abs(x - l) <= std::abs(x - u));
+    if (at_lower) {
+      status_[v] = VarStatus::kAtLower;
+      MoveNonbasicTo(v, l);
+    } else if (IsFinite(u)) {
+      status_[v] = VarStatus::kAtUpper;
+      MoveNonbasicTo(v, u);
+    } else {
+      status_[v] = VarStatus::kFree;
+      MoveNonbasicTo(v, 0);
+    }
+  }
+  costs_changed_ = 0;  // the adopted basis is optimal for these costs
 }
 
 bool SparseDualSimplex::Refactorize() {
@@ -715,9 +751,7 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
 }
 
 bool SparseDualSimplex::most_costs_changed() const {
-  // With every column boxed, a warm basis made dual infeasible is repaired by bound flips alone,
-  // without pivots: it is kept however many costs changed.
-  return unboxed_columns_ > 0 && costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
+  return costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
 }
 
 SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {

@@ -64,8 +64,8 @@ class SheetLikeLp {
   int num_rows() const { return static_cast<int>(rows_.size()); }
   double row_lower(int row) const { return rows_[row].lower; }
 
-  // CLP on a model built from scratch: its status, and its objective when optimal.
-  std::pair<LpOutcome, double> SolveFresh() const {
+  // The model as it stands, built from scratch in CLP.
+  std::unique_ptr<SheetLp> FreshClp() const {
     std::unique_ptr<SheetLp> lp = NewClpSheetLp(2 * bundles_);
     LpRowBatch batch;
     for (const Row& row : rows_) batch.Add(row.columns, row.coefs, row.lower, row.upper);
@@ -74,6 +74,12 @@ class SheetLikeLp {
       lp->SetObjectiveCoefficient(j, cost_[j]);
       lp->SetColumnBounds(j, lower_[j], upper_[j]);
     }
+    return lp;
+  }
+
+  // CLP on a model built from scratch: its status, and its objective when optimal.
+  std::pair<LpOutcome, double> SolveFresh() const {
+    std::unique_ptr<SheetLp> lp = FreshClp();
     const absl::StatusOr<LpOutcome> outcome = lp->Solve();
     EXPECT_TRUE(outcome.ok()) << outcome.status();
     return {*outcome, *outcome == LpOutcome::kOptimal ? Objective(lp->column_values()) : 0};
@@ -301,6 +307,46 @@ TEST(SparseDualSimplexTest, RepairsADualInfeasibleWarmBasis) {
   EXPECT_NEAR(simplex.column_values()[0], 8, 1e-12);
   EXPECT_NEAR(simplex.column_values()[2], 8, 1e-12);
   EXPECT_NEAR(simplex.column_values()[1], 0, 1e-12);
+}
+
+// A basis CLP found optimal, adopted: the simplex confirms it without a pivot, and after a few
+// costs change it goes on from there to the optimum a fresh CLP finds (the sheet LP's way back
+// from a solve handed to CLP, core/isp/dual_simplex_sheet_lp.cc).
+TEST(SparseDualSimplexTest, GoesOnFromAnAdoptedOptimalBasis) {
+  constexpr int kBundles = 80;
+  std::mt19937 random(11);
+  auto pick = [&](int n) { return static_cast<int>(random() % n); };
+  SheetLikeLp lp(kBundles, {});
+  for (int e = 0; e < kBundles / 2; ++e) {
+    const int a = pick(kBundles), b = pick(kBundles), c = pick(kBundles);
+    if (a != b && b != c && a != c) lp.AddRow({{a, 1}, {b, -1}, {c, -1}}, 0, 0);
+  }
+  for (int r = 0; r < kBundles / 4; ++r) lp.AddRow({{pick(kBundles), 1}}, -1, kLpInfinity);
+  // Unit moves as the bulk descent prices them: some improve (negative), all boxed at one unit.
+  for (int j = 0; j < 2 * kBundles; ++j) {
+    lp.SetBounds(j, 0, 1);
+    lp.SetCost(j, std::uniform_real_distribution<double>(-3, 5)(random));
+  }
+  std::unique_ptr<SheetLp> clp = lp.FreshClp();
+  ASSERT_EQ(*clp->Solve(), LpOutcome::kOptimal);
+  const double optimum = lp.Objective(clp->column_values());
+  ASSERT_LT(optimum, -1) << "some combination of moves must improve for the test to mean much";
+  std::vector<uint8_t> is_basic;
+  ASSERT_TRUE(clp->AppendBasis(&is_basic));
+  ASSERT_EQ(is_basic.size(), static_cast<size_t>(2 * kBundles + lp.num_rows()));
+
+  lp.simplex().AdoptBasis(is_basic, clp->column_values());
+  ASSERT_EQ(lp.simplex().Solve(), Status::kOptimal);
+  EXPECT_EQ(lp.simplex().iterations(), 0) << "CLP's optimal basis is optimal here too";
+  EXPECT_NEAR(lp.Objective(lp.simplex().column_values()), optimum, 1e-9);
+  EXPECT_LT(lp.Violation(lp.simplex().column_values()), 1e-9);
+
+  for (int k = 0; k < 5; ++k) lp.SetCost(pick(2 * kBundles), -4);
+  ASSERT_EQ(lp.simplex().Solve(), Status::kOptimal);
+  const auto [expected, objective] = lp.SolveFresh();
+  ASSERT_EQ(expected, LpOutcome::kOptimal);
+  EXPECT_NEAR(lp.Objective(lp.simplex().column_values()), objective, 1e-9);
+  EXPECT_LT(lp.Violation(lp.simplex().column_values()), 1e-9);
 }
 
 }  // namespace
