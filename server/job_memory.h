@@ -14,10 +14,11 @@
 // calibrated on the peak of live heap bytes of in-process solves (every allocation of every
 // library, by usable size: tests/bench/solve_memory_benchmark.cc, 225 ISP runs at levels 5, 25
 // and 100), which tests/server/solver_memory_test.cc holds it to:
-//   * Arcs and bundles: the mesh's tables, the separation search, the rows, the LP columns.
-//     Single parts of 30k and 100k arcs take 0.98-1.12 KB per arc (10-13 KB per bundle),
-//     feature-dense assemblies 1.41-2.03 KB per arc (8.5-12 KB per bundle), one LP over 300
-//     disjoint copies (decomposition off) 0.85-1.58 KB per arc.
+//   * Arcs and bundles: the mesh's tables, the separation search, the rows, the LP columns, and
+//     CLP's copy of an LP when a solve goes to CLP (on LPs of 4000 columns or more, every new
+//     objective does). Single parts of 30k and 100k arcs take 1.16-1.43 KB per arc (12.8-16.8
+//     KB per bundle), feature-dense assemblies 1.68-2.34 KB per arc (10.1-14.4 KB per bundle),
+//     one LP over 300 disjoint copies (decomposition off) 0.94-2.46 KB per arc.
 //   * One LP per independent subproblem (one in all without decomposition). Its fixed part is
 //     its vectors of max_pivots entries and its factorization's room for updates, which grows
 //     with its rows up to about 430 KB at 20 rows (core/isp/sparse_dual_simplex.cc). 1000
@@ -27,13 +28,16 @@
 //     kLpMaxBytes; summed over the subproblems that is at most the min() above, however the
 //     bundles are shared out.
 //   * What every solve has: 0.32 MB for the 12-arc cube, up to 1.8 MB on the real meshes.
-// Estimate over measured peak: 1.16-1.79 on the 30k-100k-arc meshes, 1.07-1.95 on 200-8000
-// disjoint copies, 1.43-2.05 on one LP over copies, 1.22-2.76 on the 62 real meshes (each below
-// 2 MB; 9 of 186 runs above 2). The cold resident-set growth is 0.2-1.2 times the heap peak: much
-// of an LP's room is allocated but never written, which a long-running server's allocator does not
-// promise. Exact mode adds CBC's branch and bound: up to 15 MB on real meshes of 300 arcs and
-// 23 KB per arc on a 30k-arc assembly (697 MB, optimal after 33 s); its tree grows with the
-// time it runs, so those two terms are a margin over what was seen rather than a bound.
+// Estimate over measured peak: 1.23-1.68 on the 30k-100k-arc parts (2.1 on a sparser 20k-arc
+// single part at levels 5 and 25), 1.11-2.03 on 200-8000 disjoint copies, 1.10-2.58 on one LP
+// over copies, 1.24-2.91 on the 62 real meshes (each below 2 MB; 13 of 186 runs above 2). The
+// large parts' peaks rose 15-30% when new objectives on large LPs went to CLP at once: the
+// estimate follows the solver, and the test says when it no longer does. The cold resident-set
+// growth is 0.2-1.2 times the heap peak: much of an LP's room is allocated but never written,
+// which a long-running server's allocator does not promise. Exact mode adds CBC's branch and
+// bound: up to 15 MB on real meshes of 300 arcs and 23 KB per arc on a 30k-arc assembly (697 MB,
+// optimal after 33 s); its tree grows with the time it runs, so those two terms are a margin
+// over what was seen rather than a bound.
 #ifndef ISPQ_SERVER_JOB_MEMORY_H_
 #define ISPQ_SERVER_JOB_MEMORY_H_
 
@@ -47,7 +51,7 @@ namespace ispq::server {
 
 inline constexpr int64_t kSolverBaseBytes = 128 << 10;
 inline constexpr int64_t kSolverBytesPerArc = 1 << 10;
-inline constexpr int64_t kSolverBytesPerBundle = 7 << 10;
+inline constexpr int64_t kSolverBytesPerBundle = 10 << 10;
 inline constexpr int64_t kLpBaseBytes = 64 << 10;
 inline constexpr int64_t kLpBytesPerBundle = 40 << 10;
 inline constexpr int64_t kLpMaxBytes = 448 << 10;

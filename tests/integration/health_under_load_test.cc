@@ -162,11 +162,11 @@ TEST(HealthUnderLoadTest, ReadinessFollowsTheMemoryBudget) {
   ASSERT_NE(server, nullptr);
   client::QuantizerClient client = ClientOf(*server);
   ASSERT_TRUE(BecomesStatus(client, "readiness", client::ServingStatus::kServing));
-  // An exact job on 41 femur shells (12k arcs): the budget can take it with its request while it
-  // is admitted (491 MiB), and once admitted it leaves less than an eighth (466 MiB held; see
+  // An exact job on 40 femur shells (12k arcs): the budget can take it with its request while it
+  // is admitted (485 MiB), and once admitted it leaves less than an eighth (463 MiB held; see
   // server/job_memory.h). Exact mode, whose estimate per arc is the largest: an ISP job whose
   // request still fit would hold too little to cross the line.
-  const v1::TMesh mesh = FemurCopies(41);
+  const v1::TMesh mesh = FemurCopies(40);
   v1::QuantizeRequest request = RequestFor(mesh, 100);
   request.mutable_options()->set_method(v1::METHOD_EXACT);
   const absl::StatusOr<v1::Job> job = client.SubmitJob(request);
