@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "core/separation_check.h"
 
+#include <algorithm>
 #include <iterator>
 #include <utility>
 
@@ -30,11 +31,15 @@ int64_t SeparationCheck::FindFirstViolations(
     const int64_t found = search.FindViolations(q, sink);
     if (found > 0) return found;
   }
+  // No sink call, so no search was stopped: every one ran to its end and found nothing.
+  clean_q_.assign(q.begin(), q.end());
+  has_clean_q_ = true;
   return 0;
 }
 
 std::vector<SeparationViolation> SeparationCheck::FindAllViolations(std::span<const int64_t> q) {
   std::vector<SeparationViolation> all;
+  if (has_clean_q_ && std::equal(q.begin(), q.end(), clean_q_.begin(), clean_q_.end())) return all;
   for (SeparationSearch& search : searches_) {
     std::vector<SeparationViolation> violations = search.FindViolations(q);
     all.insert(all.end(), std::make_move_iterator(violations.begin()),

@@ -108,7 +108,8 @@ absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, int64
 
   // Last, once the request is known to be valid: the solver's working memory.
   absl::StatusOr<MemoryReservation> working = context.memory.Reserve(
-      MemoryUse::kJobs, SolverBytes(spec.mesh->num_arcs()), "the job's solver working memory");
+      MemoryUse::kJobs, SolverBytes(SolveSizeOf(spec.mesh_stats, spec.options)),
+      "the job's solver working memory");
   if (!working.ok()) return working.status();
   spec.memory = *std::move(working);
   return spec;

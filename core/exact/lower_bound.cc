@@ -3,11 +3,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
 #include "core/exact/bundle_objective.h"
+#include "core/exact/lazy_epigraph_lp.h"
 #include "core/exact/quantization_constraints.h"
 #include "core/exact/quantization_milp.h"
 #include "core/status_macros.h"
@@ -31,6 +34,11 @@ absl::StatusOr<double> ComputeLowerBound(const TMesh& mesh, const QuantizeOption
         "a lower bound needs a consistent q satisfying the simple rows");
   }
   const double objective = objectives.Objective(x);
+  const std::vector<IntegerWindow> windows = ModelWindows(objectives, constraints, x);
+  const std::optional<double> lazy =
+      SolveLazyEpigraphRelaxation(objectives, constraints, windows, x);
+  if (lazy.has_value()) return std::min(objective, *lazy);
+  // The sparse simplex could not finish: the full model on the general solver.
   ISPQ_ASSIGN_OR_RETURN(const QuantizationMilp milp,
                         BuildQuantizationMilp(objectives, constraints, x));
   ISPQ_ASSIGN_OR_RETURN(const LpResult relaxation, solver.SolveRelaxation(milp.model));

@@ -10,6 +10,12 @@
 // row yet pass the separation search: the rows are sufficient, not necessary, conditions found
 // lazily along one run's path, so the bound is a certificate for eq. 1 of the paper *with those
 // rows*, not for every separating q.
+//
+// How: the relaxation is solved on the sparse dual simplex with the secants of each bundle's
+// objective added only where its solution needs them (core/exact/lazy_epigraph_lp.h): the same
+// optimum as the whole model on CLP (all 496 shared instances, within 1.3e-14 relative) at 0.56
+// of the instructions, without CLP's set-up, whose cold code pages a one-shot run paid for in
+// time as well.
 #ifndef ISPQ_CORE_EXACT_LOWER_BOUND_H_
 #define ISPQ_CORE_EXACT_LOWER_BOUND_H_
 
@@ -26,6 +32,7 @@ namespace ispq {
 
 // `q` must be consistent and satisfy the simple rows (a valid result); rows it violates among
 // `separation_rows` are left out, so that the bound always applies to a problem q belongs to.
+// `solver` solves the whole model if the sparse simplex cannot finish.
 absl::StatusOr<double> ComputeLowerBound(const TMesh& mesh, const QuantizeOptions& options,
                                          std::span<const int64_t> q,
                                          std::span<const SeparationRow> separation_rows,

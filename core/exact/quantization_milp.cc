@@ -58,20 +58,22 @@ void AddRows(const QuantizationConstraints& constraints, std::span<const int> x_
   }
 }
 
-// The model with bundle b's window holding the integers within slacks[b] of its best value.
-absl::StatusOr<QuantizationMilp> BuildWithSlacks(const BundleObjectives& objectives,
-                                                 const QuantizationConstraints& constraints,
-                                                 std::span<const double> slacks) {
-  const int n = objectives.num_bundles();
-  std::vector<IntegerWindow> windows(n);
-  int64_t secants = 0;
-  for (BundleId b = 0; b < n; ++b) {
-    if (!std::isfinite(slacks[b])) {
-      return absl::ResourceExhaustedError("an exact model needs a finite objective bound");
-    }
+// Bundle b's window holds the integers within slacks[b] of its best value.
+std::vector<IntegerWindow> WindowsOf(const BundleObjectives& objectives,
+                                     std::span<const double> slacks) {
+  std::vector<IntegerWindow> windows(objectives.num_bundles());
+  for (BundleId b = 0; b < objectives.num_bundles(); ++b) {
     windows[b] = objectives.Window(b, slacks[b]);
-    secants += windows[b].hi - windows[b].lo;
   }
+  return windows;
+}
+
+absl::StatusOr<QuantizationMilp> BuildWithWindows(const BundleObjectives& objectives,
+                                                  const QuantizationConstraints& constraints,
+                                                  std::span<const IntegerWindow> windows) {
+  const int n = objectives.num_bundles();
+  int64_t secants = 0;
+  for (const IntegerWindow& window : windows) secants += window.hi - window.lo;
   if (secants > kMaxSecantRows) {
     return absl::ResourceExhaustedError(
         absl::StrCat("the objective bound is too far above the minimum for an exact model (",
@@ -89,18 +91,42 @@ absl::StatusOr<QuantizationMilp> BuildWithSlacks(const BundleObjectives& objecti
   return milp;
 }
 
+absl::StatusOr<QuantizationMilp> BuildWithSlacks(const BundleObjectives& objectives,
+                                                 const QuantizationConstraints& constraints,
+                                                 std::span<const double> slacks) {
+  for (double slack : slacks) {
+    if (!std::isfinite(slack)) {
+      return absl::ResourceExhaustedError("an exact model needs a finite objective bound");
+    }
+  }
+  return BuildWithWindows(objectives, constraints, WindowsOf(objectives, slacks));
+}
+
 // A little slack so that the known q itself is never cut off by rounding.
 double WithMargin(double slack, double scale) { return slack + 1e-9 * (1 + std::abs(scale)); }
 
+// The window slacks for a known q (per-bundle values x), with margins.
+std::vector<double> SlacksFor(const BundleObjectives& objectives,
+                              const QuantizationConstraints& constraints,
+                              std::span<const int64_t> x) {
+  std::vector<double> slacks = WindowSlacks(objectives, constraints, x);
+  const double scale = objectives.Objective(x);
+  for (double& slack : slacks) slack = WithMargin(slack, scale);
+  return slacks;
+}
+
 }  // namespace
+
+std::vector<IntegerWindow> ModelWindows(const BundleObjectives& objectives,
+                                        const QuantizationConstraints& constraints,
+                                        std::span<const int64_t> x) {
+  return WindowsOf(objectives, SlacksFor(objectives, constraints, x));
+}
 
 absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
                                                        const QuantizationConstraints& constraints,
                                                        std::span<const int64_t> x) {
-  std::vector<double> slacks = WindowSlacks(objectives, constraints, x);
-  const double scale = objectives.Objective(x);
-  for (double& slack : slacks) slack = WithMargin(slack, scale);
-  return BuildWithSlacks(objectives, constraints, slacks);
+  return BuildWithSlacks(objectives, constraints, SlacksFor(objectives, constraints, x));
 }
 
 absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,

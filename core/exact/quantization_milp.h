@@ -40,9 +40,14 @@ struct QuantizationMilp {
   std::vector<int64_t> BundleValuesOf(std::span<const double> columns) const;
 };
 
-// The model whose windows hold every optimal q, given a known q (per-bundle values x; see
-// core/exact/window_slacks.h). Fails with RESOURCE_EXHAUSTED if it would need more than
-// kMaxSecantRows secants.
+// Per bundle, the window holding every optimal q, given a known q (per-bundle values x; see
+// core/exact/window_slacks.h), widened by a rounding margin so that x itself is always inside.
+std::vector<IntegerWindow> ModelWindows(const BundleObjectives& objectives,
+                                        const QuantizationConstraints& constraints,
+                                        std::span<const int64_t> x);
+
+// The model whose windows are ModelWindows(objectives, constraints, x). Fails with
+// RESOURCE_EXHAUSTED if it would need more than kMaxSecantRows secants.
 absl::StatusOr<QuantizationMilp> BuildQuantizationMilp(const BundleObjectives& objectives,
                                                        const QuantizationConstraints& constraints,
                                                        std::span<const int64_t> x);

@@ -19,9 +19,11 @@ constexpr double kMinTightening = 1e-6;
 
 SheetInfeasibility::SheetInfeasibility(const SheetLpContext* context,
                                        std::span<const BundleId> bundles,
+                                       std::span<const int32_t> equalities,
                                        const FlatLists<int32_t>* equalities_of_bundle)
     : context_(context),
       bundles_(bundles),
+      equalities_(equalities),
       equalities_of_bundle_(equalities_of_bundle),
       bounds_stamp_(bundles.size(), 0),
       bounds_(bundles.size()) {}
@@ -56,14 +58,22 @@ bool SheetInfeasibility::Tighten(int32_t i, double lower, double upper) {
   return true;
 }
 
+int32_t SheetInfeasibility::LpRowOf(int32_t code) const {
+  // The equalities are the LP's first rows, in order (core/isp/sheet_subproblem.h).
+  return code % 2 == 0 ? code / 2 : context_->lp_row_of_row[code / 2];
+}
+
 void SheetInfeasibility::QueueRowsOf(int32_t i) {
   auto queue = [&](int32_t code) {
-    if (static_cast<size_t>(code) >= queued_stamp_.size()) queued_stamp_.resize(2 * code + 2, 0);
-    if (queued_stamp_[code] == stamp_) return;
-    queued_stamp_[code] = stamp_;
+    const int32_t lp_row = LpRowOf(code);
+    if (static_cast<size_t>(lp_row) >= queued_stamp_.size()) {
+      queued_stamp_.resize(2 * lp_row + 2, 0);
+    }
+    if (queued_stamp_[lp_row] == stamp_) return;
+    queued_stamp_[lp_row] = stamp_;
     queue_.push_back(code);
   };
-  for (int32_t e : (*equalities_of_bundle_)[i]) queue(2 * e);
+  for (int32_t k : (*equalities_of_bundle_)[i]) queue(2 * k);
   const InequalityRows& rows = *context_->rows;
   for (const InequalityRows::Incidence& inc : rows.rows_of_bundle(bundles_[i])) {
     const int32_t r = inc.row;
@@ -146,10 +156,10 @@ bool SheetInfeasibility::Refutes(const SheetRequest& request) {
   const InequalityRows& rows = *context_->rows;
   for (size_t k = 0; k < queue_.size() && k < static_cast<size_t>(kMaxRowVisits); ++k) {
     const int32_t code = queue_[k];
-    queued_stamp_[code] = 0;  // it may be queued again
+    queued_stamp_[LpRowOf(code)] = 0;  // it may be queued again
     const bool holds =
         code % 2 == 0
-            ? PropagateRow((*context_->equalities)[code / 2], 0, 0)
+            ? PropagateRow((*context_->equalities)[equalities_[code / 2]], 0, 0)
             : PropagateRow(rows.terms(code / 2), -static_cast<double>(rows.slack(code / 2)), kInf);
     if (!holds) return true;
   }

@@ -12,7 +12,9 @@
 // propagation is sound for the LP (continuous bounds, no rounding): it never refutes a request
 // whose LP has a solution, so skipping such LPs changes no answer. It is not complete; what it
 // cannot refute goes to the LP. Its work is bounded per request and follows the rows it
-// tightens, not the size of the subproblem.
+// tightens, not the size of the subproblem, and so is its memory: rows are told apart by their
+// row in the subproblem's LP, never by their id in the whole mesh (a run has one of these per
+// subproblem: with arrays over the whole mesh's rows, 8000 disjoint cubes took 4.6 GB more).
 #ifndef ISPQ_CORE_ISP_SHEET_INFEASIBILITY_H_
 #define ISPQ_CORE_ISP_SHEET_INFEASIBILITY_H_
 
@@ -32,9 +34,11 @@ class SheetInfeasibility {
   // Row visits one request may spend before it gives up (and the LP decides).
   static constexpr int kMaxRowVisits = 4096;
 
-  // Over the bundles of one subproblem and, per bundle, its consistency rows; both must outlive
-  // this.
+  // Over the bundles of one subproblem, its consistency rows (their ids in the context's store,
+  // in the order of its LP's first rows) and, per bundle, the positions in `equalities` of those
+  // through it; all must outlive this.
   SheetInfeasibility(const SheetLpContext* context, std::span<const BundleId> bundles,
+                     std::span<const int32_t> equalities,
                      const FlatLists<int32_t>* equalities_of_bundle);
 
   // Whether no sheet satisfies the request: true only if its LP is infeasible.
@@ -52,20 +56,23 @@ class SheetInfeasibility {
   bool Tighten(int32_t i, double lower, double upper);
   // Queues the rows of local bundle i.
   void QueueRowsOf(int32_t i);
+  // The LP row of a queued row code (2 * local equality, 2 * inequality row id + 1).
+  int32_t LpRowOf(int32_t code) const;
   // Tightens the bundles of one row from the others; false if the row cannot hold.
   bool PropagateRow(std::span<const LinearTerm> terms, double lower, double upper);
 
   const SheetLpContext* context_;
   std::span<const BundleId> bundles_;
-  const FlatLists<int32_t>* equalities_of_bundle_;  // by local index
+  std::span<const int32_t> equalities_;             // by local equality: its id in the context
+  const FlatLists<int32_t>* equalities_of_bundle_;  // by local index: local equalities
 
   // Per request (stamped, so that nothing is cleared per request).
   const SheetRequest* request_ = nullptr;
   uint32_t stamp_ = 0;
   std::vector<uint32_t> bounds_stamp_;  // by local index
   std::vector<Interval> bounds_;
-  std::vector<uint32_t> queued_stamp_;  // by row code: 2 * equality, 2 * inequality + 1
-  std::vector<int32_t> queue_;
+  std::vector<uint32_t> queued_stamp_;  // by LP row
+  std::vector<int32_t> queue_;          // row codes: 2 * local equality, 2 * inequality id + 1
 };
 
 }  // namespace ispq

@@ -13,14 +13,15 @@ namespace {
 // LP values below this are simplex noise, not part of the sheet.
 constexpr double kZeroTolerance = 1e-7;
 
-// Per bundle of `bundles` (ascending), the consistency rows through it.
+// Per bundle of `bundles` (ascending), the consistency rows through it, by their positions in
+// `equalities`.
 FlatLists<int32_t> EqualitiesOfBundles(const SheetLpContext& context,
                                        std::span<const BundleId> bundles,
                                        std::span<const int32_t> equalities) {
   std::vector<std::vector<int32_t>> lists(bundles.size());
-  for (int32_t e : equalities) {
-    for (const LinearTerm& t : (*context.equalities)[e]) {
-      lists[std::lower_bound(bundles.begin(), bundles.end(), t.var) - bundles.begin()].push_back(e);
+  for (int32_t k = 0; k < static_cast<int32_t>(equalities.size()); ++k) {
+    for (const LinearTerm& t : (*context.equalities)[equalities[k]]) {
+      lists[std::lower_bound(bundles.begin(), bundles.end(), t.var) - bundles.begin()].push_back(k);
     }
   }
   FlatLists<int32_t> flat;
@@ -37,7 +38,7 @@ SheetSubproblem::SheetSubproblem(SheetLpContext* context, std::vector<BundleId> 
       equalities_(std::move(equalities)),
       rows_(std::move(rows)),
       equalities_of_bundle_(EqualitiesOfBundles(*context, bundles_, equalities_)),
-      infeasibility_(context, bundles_, &equalities_of_bundle_),
+      infeasibility_(context, bundles_, equalities_, &equalities_of_bundle_),
       cap_(context->column_cap) {
   for (size_t i = 0; i < bundles_.size(); ++i) {
     context_->local_index_of_bundle[bundles_[i]] = static_cast<int32_t>(i);
@@ -291,9 +292,9 @@ bool SheetSubproblem::IsConsistent(const IntegerSheet& sheet) {
   }
   bool consistent = true;
   for (size_t k = 0; k < sheet.bundles.size() && consistent; ++k) {
-    for (int32_t e : equalities_of_bundle_[local[sheet.bundles[k]]]) {
+    for (int32_t position : equalities_of_bundle_[local[sheet.bundles[k]]]) {
       int64_t sum = 0;
-      for (const LinearTerm& t : (*context_->equalities)[e]) {
+      for (const LinearTerm& t : (*context_->equalities)[equalities_[position]]) {
         sum += t.coef * scratch_delta_[local[t.var]];
       }
       if (sum != 0) {

@@ -112,7 +112,7 @@ class SheetSubproblem {
   std::vector<BundleId> bundles_;
   std::vector<int32_t> equalities_;
   std::vector<int32_t> rows_;
-  FlatLists<int32_t> equalities_of_bundle_;  // by local index
+  FlatLists<int32_t> equalities_of_bundle_;  // by local index: positions in equalities_
   std::unique_ptr<SheetLp> lp_;
   SheetInfeasibility infeasibility_;
 

@@ -389,7 +389,13 @@ bool SparseDualSimplex::Refactorize() {
   factorization_->maximumPivots(options_.max_pivots);
   std::vector<int32_t> permutation(m);
   const int size = static_cast<int>(elements.size());
-  const int area = m + 2 * size + 8000;
+  // Room for the factors plus what max_pivots updates can add before the next refactorization
+  // (a column of U and a row eta of at most m entries each), at most 8000 entries. A fixed 8000
+  // gave every LP about 430 KB of areas, most of the heap of a mesh of many small subproblems;
+  // the updates never need more than this bound, so no refactorization comes earlier.
+  const int update_room = static_cast<int>(
+      std::min<int64_t>(8000, static_cast<int64_t>(options_.max_pivots) * (m + 1)));
+  const int area = m + 2 * size + update_room;
   int status = -99;
   for (double area_factor = 1; status == -99 && area_factor <= 64; area_factor *= 2) {
     status = factorization_->factorize(m, m, size, area, 2 * area, rows.data(), columns.data(),

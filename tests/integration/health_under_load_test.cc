@@ -61,7 +61,8 @@ constexpr absl::Duration kProbeTimeout = absl::Milliseconds(100);
 
 TEST(HealthUnderLoadTest, LivenessAnswersWithin100MsDuringABurstOfLargeRequests) {
   // Large enough a budget that every request is parsed and validated in full before it is
-  // refused (each would need more than 1 GiB of solver memory): all the work, no jobs.
+  // refused (each, in exact mode, would need 4.3 GiB of solver memory by server/job_memory.h):
+  // all the work, no jobs.
   std::unique_ptr<ServerProcess> server =
       StartServerOrFail({"--workers=1", "--max_memory_bytes=1GiB"});
   ASSERT_NE(server, nullptr);
@@ -73,8 +74,9 @@ TEST(HealthUnderLoadTest, LivenessAnswersWithin100MsDuringABurstOfLargeRequests)
     std::ofstream out(mesh_file, std::ios::binary);
     ASSERT_TRUE(LargeMesh().SerializeToOstream(&out));
   }
-  const std::string submit = absl::StrCat("nice -n 10 ", ISPQ_CLI_PATH, " submit ", mesh_file,
-                                          " --level 100 --server ", server->address());
+  const std::string submit =
+      absl::StrCat("nice -n 10 ", ISPQ_CLI_PATH, " submit ", mesh_file,
+                   " --level 100 --method exact --server ", server->address());
   client::QuantizerClient prober = ClientOf(*server);
 
   std::atomic<bool> burst_over = false;
@@ -160,10 +162,14 @@ TEST(HealthUnderLoadTest, ReadinessFollowsTheMemoryBudget) {
   ASSERT_NE(server, nullptr);
   client::QuantizerClient client = ClientOf(*server);
   ASSERT_TRUE(BecomesStatus(client, "readiness", client::ServingStatus::kServing));
-  // 28k arcs: a job the budget can take (with its request, while it is admitted), and that
-  // leaves less than an eighth of it once admitted (server/job_memory.h has the estimates).
-  const v1::TMesh mesh = FemurCopies(95);
-  const absl::StatusOr<v1::Job> job = client.SubmitJob(RequestFor(mesh, 100));
+  // An exact job on 40 femur shells (12k arcs): the budget can take it with its request while it
+  // is admitted (485 MiB), and once admitted it leaves less than an eighth (463 MiB held; see
+  // server/job_memory.h). Exact mode, whose estimate per arc is the largest: an ISP job whose
+  // request still fit would hold too little to cross the line.
+  const v1::TMesh mesh = FemurCopies(40);
+  v1::QuantizeRequest request = RequestFor(mesh, 100);
+  request.mutable_options()->set_method(v1::METHOD_EXACT);
+  const absl::StatusOr<v1::Job> job = client.SubmitJob(request);
   ASSERT_TRUE(job.ok()) << job.status();
 
   EXPECT_TRUE(BecomesStatus(client, "readiness", client::ServingStatus::kNotServing));

@@ -1,14 +1,24 @@
 // SPDX-License-Identifier: Apache-2.0
 // The lower bound of a result (core/exact/lower_bound.h): never above the objective or the true
 // optimum, equal to the optimum where the LP relaxation is integral, strictly below where it is
-// not, and attached to results as the options ask.
+// not, and attached to results as the options ask. Its LP with secants added as needed
+// (core/exact/lazy_epigraph_lp.h) has the optimum of the full relaxation.
 #include "core/exact/lower_bound.h"
 
+#include <cmath>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "core/arc_bundles.h"
+#include "core/consistency_matrix.h"
+#include "core/exact/bundle_objective.h"
 #include "core/exact/cbc_milp_solver.h"
+#include "core/exact/lazy_epigraph_lp.h"
+#include "core/exact/quantization_constraints.h"
+#include "core/exact/quantization_milp.h"
 #include "core/quantizer.h"
 #include "gtest/gtest.h"
 #include "tests/support/enumerated_optimum.h"
@@ -134,6 +144,52 @@ TEST(LowerBoundTest, OptionsDecideWhetherIspResultsCarryOne) {
   EXPECT_FALSE(without.lower_bound.has_value());
   EXPECT_FALSE(without.gap.has_value());
   EXPECT_EQ(without.stats.lower_bound_seconds, 0);
+}
+
+// The relaxation of the whole model (every secant of every window) on CLP, and the lazy one, for
+// the rows and windows of known bundle values x at `scaling`.
+struct TwoRelaxations {
+  double full = 0;
+  std::optional<double> lazy;
+};
+
+TwoRelaxations SolveBothRelaxations(const TMesh& mesh, double scaling, std::span<const int64_t> q) {
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  const BundleObjectives objectives(mesh, bundles, scaling);
+  const QuantizationConstraints constraints(mesh, consistency, bundles, false);
+  const std::vector<int64_t> x = constraints.BundleValues(q);
+  const absl::StatusOr<QuantizationMilp> milp = BuildQuantizationMilp(objectives, constraints, x);
+  EXPECT_TRUE(milp.ok()) << milp.status();
+  const absl::StatusOr<LpResult> full = NewCbcMilpSolver()->SolveRelaxation(milp->model);
+  EXPECT_TRUE(full.ok() && full->status == LpStatus::kOptimal);
+  const std::vector<IntegerWindow> windows = ModelWindows(objectives, constraints, x);
+  return {full->objective, SolveLazyEpigraphRelaxation(objectives, constraints, windows, x)};
+}
+
+// From the result of the same level the two secants around it nearly always suffice; from the
+// result of another level (consistent, satisfying the simple rows, far from this level's optimum)
+// the secants must follow the solution over several rounds. Both end at the full optimum.
+TEST(LowerBoundTest, LazySecantsReachTheFullRelaxation) {
+  for (const char* model : {"s09c_bridge", "s12c_cube_rounded_1", "n06u_anti_pentapyr"}) {
+    const TMesh mesh = RealMesh(model);
+    std::vector<std::vector<int64_t>> results;
+    for (const Level& level : mesh.levels()) {
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      options.lower_bound = LowerBoundMode::kNever;
+      results.push_back(QuantizeOrDie(mesh, options).q);
+    }
+    for (size_t level = 0; level < results.size(); ++level) {
+      const double scaling = mesh.levels()[level].scaling;
+      for (size_t from : {level, results.size() - 1 - level}) {
+        const TwoRelaxations bounds = SolveBothRelaxations(mesh, scaling, results[from]);
+        ASSERT_TRUE(bounds.lazy.has_value()) << model << " level " << level << " from " << from;
+        EXPECT_NEAR(*bounds.lazy, bounds.full, 1e-7 * (1 + std::abs(bounds.full)))
+            << model << " level " << level << " from " << from;
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -224,6 +224,39 @@ TEST(QuantizationValidatorTest, WithTheCallersCheckReportsAsWithItsOwn) {
   }
 }
 
+// A check answers FindAllViolations without searching for the last q its FindFirstViolations found
+// clean (core/separation_check.h): on every shared mesh, for consistent q near the targets at
+// several scales (the small ones with zero arcs and violations) and for the q before, its answers
+// are a fresh check's.
+TEST(QuantizationValidatorTest, ACheckRemembersOnlyWhatItsSearchesFound) {
+  const std::vector<std::string> files = RealTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  int clean = 0, violated = 0;
+  for (const std::string& file : files) {
+    SCOPED_TRACE(ShortName(file));
+    const TMesh mesh = LoadTMeshOrDie(file);
+    const ConsistentQuantizations quantizations(mesh);
+    SeparationCheck check(mesh, SeparationRule::kBothSearches);
+    std::vector<int64_t> previous;
+    for (double scale : {0.1, 0.3, 1.0, 3.0}) {
+      const std::vector<int64_t> q = quantizations.NearTargets(scale);
+      const bool passed = check.FindFirstViolations(q).empty();
+      (passed ? clean : violated) += 1;
+      SeparationCheck fresh(mesh, SeparationRule::kBothSearches);
+      EXPECT_EQ(check.FindAllViolations(q).size(), fresh.FindAllViolations(q).size());
+      EXPECT_EQ(fresh.FindAllViolations(q).empty(), passed);
+      if (!previous.empty()) {
+        EXPECT_EQ(check.FindAllViolations(previous).size(),
+                  fresh.FindAllViolations(previous).size());
+      }
+      previous = q;
+    }
+  }
+  // Both kinds of q occur (153 clean, 95 with violations), so both paths were taken.
+  EXPECT_GT(clean, 0);
+  EXPECT_GT(violated, 0);
+}
+
 TEST(QuantizationValidatorTest, RefusesACheckOfAnotherMeshOrRule) {
   const TMesh cube = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
   const TMesh copy = LoadTMeshOrDie(RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
