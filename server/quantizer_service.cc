@@ -291,8 +291,8 @@ grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerConte
 }
 
 absl::StatusOr<v1::Mesh> QuantizerService::AdmitCreateMesh(UnaryCall& call,
-                                                            const Principal& principal,
-                                                            RawRequest& raw) {
+                                                           const Principal& principal,
+                                                           RawRequest& raw) {
   if (call.context().IsCancelled()) return CancelledBeforeAdmission();
   absl::StatusOr<ParsedRequest<v1::CreateMeshRequest>> parsed =
       ParseWithinBudget<v1::CreateMeshRequest>(raw, memory_);

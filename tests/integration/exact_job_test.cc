@@ -13,9 +13,9 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/integration/service_test_support.h"
-#include "tests/support/tmesh_copies.h"
 #include "tests/support/run_command.h"
 #include "tests/support/test_data.h"
+#include "tests/support/tmesh_copies.h"
 
 namespace ispq::testing {
 namespace {

@@ -254,8 +254,8 @@ TEST(DualSimplexSheetLpTest, SolvesAfterOneByClpAreWarm) {
     rows.Add(std::vector<int32_t>{2 * a, 2 * a + 1, 2 * b, 2 * b + 1},
              std::vector<double>{1, -1, -1, 1}, -1, kLpInfinity);
   }
-  std::unique_ptr<SheetLp> live = DualSimplexSheetLpFactory({.new_objective_clp_min_columns = 0})(
-      kColumns);
+  std::unique_ptr<SheetLp> live =
+      DualSimplexSheetLpFactory({.new_objective_clp_min_columns = 0})(kColumns);
   live->AddRows(rows);
   std::vector<double> costs(kColumns);
   for (int c = 0; c < kColumns; ++c) {
