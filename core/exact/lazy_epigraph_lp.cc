@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/exact/quantization_milp.h"
 #include "core/isp/sheet_lp.h"
 #include "core/isp/sparse_dual_simplex.h"
 
@@ -89,21 +90,7 @@ void LazyEpigraphLp::AddBundleColumns(BundleId b) {
 }
 
 void LazyEpigraphLp::AddRows(const QuantizationConstraints& constraints) {
-  std::vector<int32_t> columns;
-  std::vector<double> coefs;
-  const auto add = [&](std::span<const LinearTerm> terms, double lower, double upper) {
-    columns.clear();
-    coefs.clear();
-    for (const LinearTerm& t : terms) {
-      columns.push_back(x_column_[t.var]);
-      coefs.push_back(static_cast<double>(t.coef));
-    }
-    pending_.Add(columns, coefs, lower, upper);
-  };
-  for (int i = 0; i < constraints.num_equalities(); ++i) add(constraints.equality(i), 0, 0);
-  for (int i = 0; i < constraints.num_inequalities(); ++i) {
-    add(constraints.inequality(i), static_cast<double>(constraints.rhs(i)), kLpInfinity);
-  }
+  AppendConstraintRows(constraints, x_column_, pending_);
 }
 
 void LazyEpigraphLp::AddSecant(BundleId b, int64_t k) {

@@ -38,26 +38,6 @@ void AddBundleObjective(const BundleObjectives& objectives, BundleId b, IntegerW
   }
 }
 
-// The rows of `constraints` over the columns x_column[b].
-void AddRows(const QuantizationConstraints& constraints, std::span<const int> x_column,
-             MilpModel& model) {
-  std::vector<int32_t> columns;
-  std::vector<double> coefs;
-  const auto add = [&](std::span<const LinearTerm> terms, double lower, double upper) {
-    columns.clear();
-    coefs.clear();
-    for (const LinearTerm& t : terms) {
-      columns.push_back(x_column[t.var]);
-      coefs.push_back(t.coef);
-    }
-    model.rows.Add(columns, coefs, lower, upper);
-  };
-  for (int i = 0; i < constraints.num_equalities(); ++i) add(constraints.equality(i), 0, 0);
-  for (int i = 0; i < constraints.num_inequalities(); ++i) {
-    add(constraints.inequality(i), static_cast<double>(constraints.rhs(i)), kLpInfinity);
-  }
-}
-
 // Bundle b's window holds the integers within slacks[b] of its best value.
 std::vector<IntegerWindow> WindowsOf(const BundleObjectives& objectives,
                                      std::span<const double> slacks) {
@@ -87,7 +67,7 @@ absl::StatusOr<QuantizationMilp> BuildWithWindows(const BundleObjectives& object
                                             static_cast<double>(windows[b].hi), 0.0, true);
   }
   for (BundleId b = 0; b < n; ++b) AddBundleObjective(objectives, b, windows[b], milp);
-  AddRows(constraints, milp.x_column, milp.model);
+  AppendConstraintRows(constraints, milp.x_column, milp.model.rows);
   return milp;
 }
 
@@ -117,6 +97,25 @@ std::vector<double> SlacksFor(const BundleObjectives& objectives,
 
 }  // namespace
 
+void AppendConstraintRows(const QuantizationConstraints& constraints, std::span<const int> x_column,
+                          LpRowBatch& rows) {
+  std::vector<int32_t> columns;
+  std::vector<double> coefs;
+  const auto add = [&](std::span<const LinearTerm> terms, double lower, double upper) {
+    columns.clear();
+    coefs.clear();
+    for (const LinearTerm& t : terms) {
+      columns.push_back(x_column[t.var]);
+      coefs.push_back(static_cast<double>(t.coef));
+    }
+    rows.Add(columns, coefs, lower, upper);
+  };
+  for (int i = 0; i < constraints.num_equalities(); ++i) add(constraints.equality(i), 0, 0);
+  for (int i = 0; i < constraints.num_inequalities(); ++i) {
+    add(constraints.inequality(i), static_cast<double>(constraints.rhs(i)), kLpInfinity);
+  }
+}
+
 std::vector<IntegerWindow> ModelWindows(const BundleObjectives& objectives,
                                         const QuantizationConstraints& constraints,
                                         std::span<const int64_t> x) {
@@ -142,7 +141,7 @@ MilpModel BuildFeasibilityModel(int num_bundles, const QuantizationConstraints& 
   std::vector<int> x_column(num_bundles);
   const double limit = static_cast<double>(kMaxArcLength);
   for (BundleId b = 0; b < num_bundles; ++b) x_column[b] = model.AddColumn(-limit, limit, 0, true);
-  AddRows(constraints, x_column, model);
+  AppendConstraintRows(constraints, x_column, model.rows);
   return model;
 }
 

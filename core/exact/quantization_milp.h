@@ -40,6 +40,11 @@ struct QuantizationMilp {
   std::vector<int64_t> BundleValuesOf(std::span<const double> columns) const;
 };
 
+// Appends the rows of `constraints` (equalities = 0, inequalities >= rhs) over the columns
+// x_column[b] of the bundles: shared by the MILP and the lower bound's lazy LP.
+void AppendConstraintRows(const QuantizationConstraints& constraints, std::span<const int> x_column,
+                          LpRowBatch& rows);
+
 // Per bundle, the window holding every optimal q, given a known q (per-bundle values x; see
 // core/exact/window_slacks.h), widened by a rounding margin so that x itself is always inside.
 std::vector<IntegerWindow> ModelWindows(const BundleObjectives& objectives,

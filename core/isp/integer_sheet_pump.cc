@@ -25,6 +25,16 @@
 namespace ispq {
 namespace {
 
+// A request for the bulk descent's LP (SheetRequest::unit_moves) in the given directions.
+SheetRequest UnitMoves(bool allow_inflation, bool allow_deflation) {
+  SheetRequest request;
+  request.unit_moves = true;
+  request.weights = WeightScheme::kUnitCost;
+  request.allow_inflation = allow_inflation;
+  request.allow_deflation = allow_deflation;
+  return request;
+}
+
 // A greedy pass (not a thorough one) ends after this many consecutive roots without an
 // improving sheet: max(kSkipFraction * bundles, kMinSkip). A pass that has improved nothing yet
 // ends sooner, after kIdleSkipBase + kIdleSkipFraction * bundles roots (if that is less): at a
@@ -87,9 +97,8 @@ class IntegerSheetPump {
   // The greedy pass of the subproblems that descend in bulk (IspTuning::bulk_descent_min_bundles):
   // the best combination of unit moves, applied until none improves; true if one was.
   absl::StatusOr<bool> BulkDescent(QuantizationPhase phase);
-  bool DescendsInBulk(BundleId b) {
-    return subproblems_.Of(b).bundles().size() >=
-           static_cast<size_t>(tuning_.bulk_descent_min_bundles);
+  bool DescendsInBulk(const SheetSubproblem& subproblem) const {
+    return subproblem.bundles().size() >= static_cast<size_t>(tuning_.bulk_descent_min_bundles);
   }
   // The cheapest sheet of a root is often not an improving one while an improving one exists:
   // blocks the bundles it made worse from moving that way and solves again.
@@ -105,6 +114,9 @@ class IntegerSheetPump {
   // Separating updates (Alg. 3, App. B): one solve per subproblem with violated rows.
   absl::StatusOr<bool> SeparatingUpdate();
   absl::StatusOr<bool> SeparateSubproblem(int32_t id);
+  // Finds the step `request` asks for in subproblem `id` and applies it as a separating update;
+  // true if there was one.
+  absl::StatusOr<bool> ApplySeparatingStep(int32_t id, const SheetRequest& request);
   absl::StatusOr<bool> FailsafeSubproblem(int32_t id);
   // One lazy separation round on the current q: activates the rows of at most
   // tuning_.max_new_rows_per_search violations per subproblem and sets rows_left_over_ if more
@@ -235,7 +247,7 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
   while (thorough || static_cast<double>(skipped) < (changed ? skip_limit : idle_skip_limit)) {
     const std::optional<BundleId> root = queue.Pop();
     if (!root.has_value()) break;
-    if (DescendsInBulk(*root)) continue;  // BulkDescent answered for it
+    if (DescendsInBulk(subproblems_.Of(*root))) continue;  // BulkDescent answered for it
     ISPQ_ASSIGN_OR_RETURN(const bool accepted, PumpRoot(*root, thorough));
     if (clock_.stopped()) return changed;
     if (!accepted) {
@@ -300,9 +312,7 @@ absl::StatusOr<bool> IntegerSheetPump::BulkDescent(QuantizationPhase phase) {
   bool changed = false;
   for (const int32_t id : subproblems_.Ids()) {
     SheetSubproblem& subproblem = subproblems_.at(id);
-    if (subproblem.bundles().size() < static_cast<size_t>(tuning_.bulk_descent_min_bundles)) {
-      continue;
-    }
+    if (!DescendsInBulk(subproblem)) continue;
     // Without mixed-sign sheets, inflating and deflating combinations take turns.
     const std::vector<std::pair<bool, bool>> modes =
         options_.mixed_sign ? std::vector<std::pair<bool, bool>>{{true, true}}
@@ -311,12 +321,8 @@ absl::StatusOr<bool> IntegerSheetPump::BulkDescent(QuantizationPhase phase) {
       progress = false;
       for (const auto& [inflation, deflation] : modes) {
         while (true) {
-          SheetRequest request;
-          request.unit_moves = true;
-          request.weights = WeightScheme::kUnitCost;
-          request.allow_inflation = inflation;
-          request.allow_deflation = deflation;
-          ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblem, request, &step_));
+          ISPQ_ASSIGN_OR_RETURN(const bool found,
+                                steps_.Find(subproblem, UnitMoves(inflation, deflation), &step_));
           if (clock_.stopped()) return changed;
           if (!found || step_.gain >= -Tolerance()) break;
           Apply(step_);
@@ -424,19 +430,10 @@ absl::StatusOr<bool> IntegerSheetPump::SeparatingUpdate() {
 absl::StatusOr<bool> IntegerSheetPump::SeparateSubproblem(int32_t id) {
   // A subproblem that descends in bulk first tries the bulk LP with the violated rows in it: the
   // best combination of unit moves that satisfies them, on the LP the descent keeps warm.
-  if (subproblems_.at(id).bundles().size() >=
-      static_cast<size_t>(tuning_.bulk_descent_min_bundles)) {
-    SheetRequest request;
-    request.unit_moves = true;
-    request.weights = WeightScheme::kUnitCost;
-    request.allow_deflation = options_.mixed_sign;
-    ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblems_.at(id), request, &step_));
-    if (found) {
-      Apply(step_);
-      ++stats_.separating_updates;
-      Report(QuantizationPhase::kSeparation);
-      return true;
-    }
+  if (DescendsInBulk(subproblems_.at(id))) {
+    ISPQ_ASSIGN_OR_RETURN(const bool applied,
+                          ApplySeparatingStep(id, UnitMoves(true, options_.mixed_sign)));
+    if (applied) return true;
   }
   // Default mode (deflation allowed), then the non-deflating mode (7g). Without mixed-sign
   // sheets only the uniform-sign (non-deflating) mode is used.
@@ -447,15 +444,20 @@ absl::StatusOr<bool> IntegerSheetPump::SeparateSubproblem(int32_t id) {
     // A separating sheet usually moves arcs that are all in the same tier of eq. 4, where the
     // tiers hardly tell them apart: price them by their exact objective change instead.
     request.weights = WeightScheme::kMarginalCost;
-    ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblems_.at(id), request, &step_));
-    if (found) {
-      Apply(step_);
-      ++stats_.separating_updates;
-      Report(QuantizationPhase::kSeparation);
-      return true;
-    }
+    ISPQ_ASSIGN_OR_RETURN(const bool applied, ApplySeparatingStep(id, request));
+    if (applied) return true;
   }
   return false;
+}
+
+absl::StatusOr<bool> IntegerSheetPump::ApplySeparatingStep(int32_t id,
+                                                           const SheetRequest& request) {
+  ISPQ_ASSIGN_OR_RETURN(const bool found, steps_.Find(subproblems_.at(id), request, &step_));
+  if (!found) return false;
+  Apply(step_);
+  ++stats_.separating_updates;
+  Report(QuantizationPhase::kSeparation);
+  return true;
 }
 
 absl::StatusOr<bool> IntegerSheetPump::FailsafeSubproblem(int32_t id) {

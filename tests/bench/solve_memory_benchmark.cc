@@ -53,6 +53,7 @@
 #include "core/resolution_levels.h"
 #include "server/job_memory.h"
 #include "tests/support/heap_peak.h"
+#include "tests/support/own_memory.h"
 #include "tests/support/test_data.h"
 #include "tests/support/tmesh_copies.h"
 
@@ -83,28 +84,15 @@ class ServerLikeObserver : public ProgressObserver {
   std::vector<int32_t> latest_;
 };
 
-double StatusKib(const char* field) {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == field) {
-      double kib = 0;
-      status >> kib;
-      return kib;
-    }
-  }
-  return 0;
-}
-
 // The resident set's growth over a solve that starts with every freed page returned.
 int64_t ColdRssGrowthBytes(const TMesh& mesh, const QuantizeOptions& options) {
   malloc_trim(0);
   std::ofstream("/proc/self/clear_refs") << "5";
-  const double before_kib = StatusKib("VmRSS:");
+  const double before_kib = testing::OwnStatusKib("VmRSS:");
   ServerLikeObserver observer;
   const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options, &observer);
   if (!result.ok()) return -1;
-  return static_cast<int64_t>((StatusKib("VmHWM:") - before_kib) * 1024);
+  return static_cast<int64_t>((testing::OwnStatusKib("VmHWM:") - before_kib) * 1024);
 }
 
 struct Run {

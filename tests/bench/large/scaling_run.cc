@@ -50,6 +50,7 @@
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
 #include "core/subproblems.h"
+#include "tests/support/own_memory.h"
 #include "tests/support/test_data.h"
 
 ABSL_FLAG(std::string, mesh, "", "T-mesh file (.pb or .json)");
@@ -65,18 +66,7 @@ ABSL_FLAG(bool, stats_only, false, "print the mesh's statistics only, without so
 namespace ispq::bench {
 namespace {
 
-double StatusMib(const char* field) {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == field) {
-      double kib = 0;
-      status >> kib;
-      return kib / 1024;
-    }
-  }
-  return 0;
-}
+double StatusMib(const char* field) { return testing::OwnStatusKib(field) / 1024; }
 
 double PeakRssMib() { return StatusMib("VmHWM:"); }
 
