@@ -21,7 +21,7 @@ echo "== core unit tests under ASan/UBSan =="
 cmake --preset asan >/dev/null
 cmake --build --preset asan -j "$JOBS" --target ispq_unit_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-  build/asan/tests/unit/ispq_unit_tests --gtest_brief=1
+  build/asan/tests/core/ispq_unit_tests --gtest_brief=1
 
 echo "== fuzzing the T-mesh and request parsers, 30 s per target =="
 bash tests/fuzz/run_fuzzers.sh 30
