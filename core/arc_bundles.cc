@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include "core/disjoint_sets.h"
+#include "core/linear_terms.h"
 
 namespace ispq {
 
@@ -41,19 +42,9 @@ std::vector<LinearTerm> ArcBundles::ToBundleTerms(std::span<const LinearTerm> ar
   std::vector<LinearTerm> terms;
   terms.reserve(arc_terms.size());
   for (const LinearTerm& t : arc_terms) terms.push_back({bundle_of_arc_[t.var], t.coef});
+  MergeRepeatedTerms(terms);
   std::sort(terms.begin(), terms.end(),
             [](const LinearTerm& x, const LinearTerm& y) { return x.var < y.var; });
-  // Merged in place: terms[0, kept) are the bundles so far, each once.
-  size_t kept = 0;
-  for (const LinearTerm& t : terms) {
-    if (kept > 0 && terms[kept - 1].var == t.var) {
-      terms[kept - 1].coef += t.coef;
-    } else {
-      terms[kept++] = t;
-    }
-  }
-  terms.resize(kept);
-  std::erase_if(terms, [](const LinearTerm& t) { return t.coef == 0; });
   return terms;
 }
 

@@ -10,15 +10,10 @@
 #include <vector>
 
 #include "core/flat_lists.h"
+#include "core/linear_terms.h"
 #include "core/tmesh.h"
 
 namespace ispq {
-
-struct LinearTerm {
-  int32_t var;  // an arc id, or a bundle id once rows are expressed on bundles
-  int32_t coef;
-  friend bool operator==(const LinearTerm&, const LinearTerm&) = default;
-};
 
 struct ConsistencyRowInfo {
   PatchId patch;

@@ -14,7 +14,7 @@
 #include "core/exact/lower_bound.h"
 #include "core/isp/dual_simplex_sheet_lp.h"
 #include "core/isp/integer_sheet_pump.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/quantization_limits.h"
 #include "core/quantization_objective.h"
 #include "core/quantization_validator.h"

@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "core/consistency_matrix.h"
+#include "core/linear_terms.h"
 
 namespace ispq {
 

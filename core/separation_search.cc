@@ -10,6 +10,7 @@
 
 #include "core/block_node_positions.h"
 #include "core/integer_box.h"
+#include "core/linear_terms.h"
 #include "core/separation_search_tables.h"
 #include "core/separation_start_configurations.h"
 #include "core/stamped_set.h"
@@ -59,23 +60,6 @@ struct Candidate {
   int32_t begin;
   int32_t end;
 };
-
-// Adds coef * q_arc to a row, merging with an existing term of the same arc.
-void AddTerm(std::vector<LinearTerm>& terms, ArcId arc, int32_t coef) {
-  for (LinearTerm& t : terms) {
-    if (t.var == arc) {
-      t.coef += coef;
-      return;
-    }
-  }
-  terms.push_back({arc, coef});
-}
-
-void DropZeroTerms(std::vector<LinearTerm>& terms) {
-  terms.erase(
-      std::remove_if(terms.begin(), terms.end(), [](const LinearTerm& t) { return t.coef == 0; }),
-      terms.end());
-}
 
 }  // namespace
 
@@ -601,11 +585,11 @@ void SeparationSearch::Impl::BuildViolation(int config, int32_t walk_index, DirS
   }
   violation.default_row = SeparationRow{};
   violation.failsafe_row = SeparationRow{};
-  for (ArcId a : positive) AddTerm(violation.default_row.terms, a, +1);
-  for (ArcId a : negative) AddTerm(violation.default_row.terms, a, -1);
-  for (ArcId a : one_way) AddTerm(violation.failsafe_row.terms, a, +1);
-  DropZeroTerms(violation.default_row.terms);
-  DropZeroTerms(violation.failsafe_row.terms);
+  for (ArcId a : positive) violation.default_row.terms.push_back({a, +1});
+  for (ArcId a : negative) violation.default_row.terms.push_back({a, -1});
+  for (ArcId a : one_way) violation.failsafe_row.terms.push_back({a, +1});
+  MergeRepeatedTerms(violation.default_row.terms);
+  MergeRepeatedTerms(violation.failsafe_row.terms);
 }
 
 SeparationSearch::SeparationSearch(const TMesh& mesh, SeparationSearchOptions options)

@@ -25,7 +25,7 @@
 
 #include "absl/status/statusor.h"
 #include "core/exact/milp_solver.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"
 #include "core/quantize_result.h"

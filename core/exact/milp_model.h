@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A mixed-integer linear program in the plain form the exact mode hands to its solvers: columns
 // with bounds, objective coefficients and integrality flags, and rows in the compressed form of
-// core/isp/sheet_lp.h. The quantization model (core/exact/quantization_milp.h) builds one; the
+// core/lp_row_batch.h. The quantization model (core/exact/quantization_milp.h) builds one; the
 // CBC back end solves it as a MILP and the CLP back end solves its LP relaxation, so that neither
 // solver appears in the code that decides what the model is.
 #ifndef ISPQ_CORE_EXACT_MILP_MODEL_H_
@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/isp/sheet_lp.h"
+#include "core/lp_row_batch.h"
 
 namespace ispq {
 

@@ -13,7 +13,7 @@
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/greedy_queue.h"
 #include "core/isp/layered_start.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/isp/separation_rows.h"
 #include "core/isp/sheet_coverage.h"
 #include "core/isp/sheet_step.h"

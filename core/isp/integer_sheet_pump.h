@@ -23,7 +23,7 @@
 
 #include "absl/status/statusor.h"
 #include "core/isp/isp_tuning.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/isp/sheet_lp.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"

@@ -15,7 +15,7 @@
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
 #include "core/isp/bundle_quantization.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_result.h"
 #include "core/separation_check.h"

@@ -9,6 +9,7 @@
 #include "CoinFactorization.hpp"
 #include "CoinIndexedVector.hpp"
 #include "absl/base/macros.h"
+#include "core/linear_terms.h"
 
 namespace ispq {
 namespace {
@@ -97,25 +98,15 @@ void SparseDualSimplex::AddRows(const LpRowBatch& batch) {
   if (batch.size() == 0) return;
   for (int k = 0; k < batch.size(); ++k) {
     // Repeated columns are merged (the factorization wants each entry once) and zeros dropped.
-    const size_t begin = row_column_.size();
+    new_row_.clear();
     for (int32_t t = batch.starts()[k]; t < batch.starts()[k + 1]; ++t) {
-      const int32_t j = batch.columns()[t];
-      size_t at = begin;
-      while (at < row_column_.size() && row_column_[at] != j) ++at;
-      if (at == row_column_.size()) {
-        row_column_.push_back(j);
-        row_coef_.push_back(0);
-      }
-      row_coef_[at] += batch.coefs()[t];
+      new_row_.push_back({batch.columns()[t], batch.coefs()[t]});
     }
-    size_t kept = begin;
-    for (size_t t = begin; t < row_column_.size(); ++t) {
-      if (row_coef_[t] == 0) continue;
-      row_column_[kept] = row_column_[t];
-      row_coef_[kept++] = row_coef_[t];
+    MergeRepeatedTerms(new_row_);
+    for (const ColumnTerm& term : new_row_) {
+      row_column_.push_back(term.var);
+      row_coef_.push_back(term.coef);
     }
-    row_column_.resize(kept);
-    row_coef_.resize(kept);
     row_start_.push_back(static_cast<int32_t>(row_column_.size()));
     // The new row's logical joins the basis; its value is set by the refactorization.
     lower_.push_back(batch.lower()[k]);

@@ -197,6 +197,12 @@ class SparseDualSimplex {
   std::vector<int32_t> column_start_;
   std::vector<int32_t> column_row_;
   std::vector<double> column_coef_;
+  // A row being added, while its repeated columns are merged.
+  struct ColumnTerm {
+    int32_t var;
+    double coef;
+  };
+  std::vector<ColumnTerm> new_row_;
 
   // Per variable.
   std::vector<double> lower_, upper_, cost_;

@@ -45,7 +45,7 @@
 #include "absl/flags/parse.h"
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
-#include "core/isp/run_clock.h"
+#include "core/run_clock.h"
 #include "core/mesh_stats.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"

@@ -1,10 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// Time within one ISP run: the elapsed time for progress reports, the stop condition (the time
-// limit or the caller's SolveInterrupter, checked between LP solves) and scoped timers that add
-// a phase's CPU time to its statistic. Phases are timed in CPU time of the solving thread, which
-// a busy machine does not inflate; the time limit and the reported elapsed time are wall time.
-#ifndef ISPQ_CORE_ISP_RUN_CLOCK_H_
-#define ISPQ_CORE_ISP_RUN_CLOCK_H_
+// Time within one run, ISP or exact mode: the elapsed time for progress reports, the stop
+// condition (the time limit or the caller's SolveInterrupter, checked between LP solves) and
+// scoped timers that add a phase's CPU time to its statistic. Phases are timed in CPU time of the
+// solving thread, which a busy machine does not inflate; the time limit and the reported elapsed
+// time are wall time.
+#ifndef ISPQ_CORE_RUN_CLOCK_H_
+#define ISPQ_CORE_RUN_CLOCK_H_
 
 #include <time.h>
 
@@ -78,4 +79,4 @@ class ScopedCpuSeconds {
 
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_ISP_RUN_CLOCK_H_
+#endif  // ISPQ_CORE_RUN_CLOCK_H_
