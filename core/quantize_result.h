@@ -23,11 +23,15 @@ const char* TerminationName(Termination termination);
 
 struct QuantizeStats {
   int64_t lp_solves = 0;
-  // What the sheet LPs' back ends did in those solves: simplex pivots, refactorizations of the
-  // basis, and solves the sparse dual simplex handed to CLP (core/isp/dual_simplex_sheet_lp.h).
+  // What the sheet LPs' back ends did in those solves: simplex pivots (and how many of them left
+  // the objective where it was), refactorizations of the basis, and solves the sparse dual
+  // simplex handed to CLP (core/isp/dual_simplex_sheet_lp.h), of which those it gave up as
+  // stalled (SparseDualSimplexOptions::max_degenerate_pivots).
   int64_t lp_pivots = 0;
+  int64_t lp_degenerate_pivots = 0;
   int64_t lp_refactorizations = 0;
   int64_t lp_fallback_solves = 0;
+  int64_t lp_stalled_solves = 0;
   // Greedy checks answered by the sheet of another root (IspTuning::cover_min_bundles).
   int64_t covered_checks = 0;
   int64_t sheets_inflating = 0;

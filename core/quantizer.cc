@@ -12,12 +12,13 @@
 #include "core/exact/cbc_milp_solver.h"
 #include "core/exact/exact_quantizer.h"
 #include "core/exact/lower_bound.h"
+#include "core/invariant.h"
 #include "core/isp/dual_simplex_sheet_lp.h"
 #include "core/isp/integer_sheet_pump.h"
-#include "core/run_clock.h"
 #include "core/quantization_limits.h"
 #include "core/quantization_objective.h"
 #include "core/quantization_validator.h"
+#include "core/run_clock.h"
 #include "core/separation_check.h"
 #include "core/status_macros.h"
 
@@ -49,6 +50,7 @@ absl::Status RunExactMode(const TMesh& mesh, const QuantizeOptions& options,
 absl::Status Certify(const TMesh& mesh, const QuantizeOptions& options, bool claims_separating,
                      SeparationCheck& separation, QuantizeResult& result) {
   // Every result is checked by the validator, independently of what the algorithm believes.
+  ISPQ_INVARIANT(static_cast<int>(result.q.size()) == mesh.num_arcs(), "one length per arc");
   ValidationOptions validation;
   validation.separation = options.separation;
   if (options.per_arc_nonnegative) validation.per_arc_lower_bound = 0;

@@ -3,6 +3,7 @@
 
 #include <utility>
 
+#include "core/invariant.h"
 #include "google/protobuf/util/time_util.h"
 #include "server/job_memory.h"
 #include "server/resource_names.h"
@@ -128,6 +129,10 @@ std::vector<std::shared_ptr<JobWatcher>> Job::LiveWatchersLocked() {
 }
 
 Job::Appended Job::EndLocked(v1::JobState state, absl::Time now, v1::QuantizeEvent terminal) {
+  ISPQ_INVARIANT(!end_time_.has_value(), "a job ends once");
+  ISPQ_INVARIANT(state_ == v1::QUEUED || state_ == v1::RUNNING, "only a live job ends");
+  ISPQ_INVARIANT(state == v1::SUCCEEDED || state == v1::FAILED || state == v1::CANCELLED,
+                 "a job ends in a terminal state");
   state_ = state;
   end_time_ = now;
   if (budget_ != nullptr) {
@@ -149,6 +154,7 @@ bool Job::Start(absl::Time now) {
   {
     absl::MutexLock lock(&mutex_);
     if (cancel_requested_ || state_ != v1::QUEUED) return false;
+    ISPQ_INVARIANT(!end_time_.has_value(), "a queued job has not ended");
     state_ = v1::RUNNING;
     start_time_ = now;
   }

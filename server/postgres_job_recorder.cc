@@ -7,6 +7,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/clock.h"
+#include "core/invariant.h"
 #include "google/protobuf/util/time_util.h"
 #include "server/log_value.h"
 #include "server/postgres_job_rows.h"
@@ -58,6 +59,8 @@ void PostgresJobRecorder::Track(const std::shared_ptr<Job>& job, int attempt) {
     // earlier run's records would be written under the new lease; it must stop.
     superseded = record.job.lock();
     superseded_bound = record.bound_to_call;
+    ISPQ_INVARIANT(record.run == nullptr || attempt > record.attempt,
+                   "each claim of a job has a higher attempt than the one it supersedes");
     record = Pending();
     record.job = job;
     record.run = job.get();

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "core/isp/bundle_quantization.h"
 
+#include "core/invariant.h"
+
 namespace ispq {
 
 BundleQuantization::BundleQuantization(const TMesh& mesh, const ArcBundles& bundles, double scaling)
@@ -36,11 +38,13 @@ StepQuadratic BundleQuantization::Quadratic(const IntegerSheet& sheet) const {
 }
 
 void BundleQuantization::Apply(const IntegerSheet& sheet, int64_t t) {
+  ISPQ_INVARIANT(sheet.bundles.size() == sheet.deltas.size(), "one delta per bundle of a sheet");
   objective_ += Quadratic(sheet).At(t);
   for (size_t i = 0; i < sheet.bundles.size(); ++i) value_[sheet.bundles[i]] += t * sheet.deltas[i];
 }
 
 void BundleQuantization::SetValues(std::span<const int64_t> bundle_values) {
+  ISPQ_INVARIANT(bundle_values.size() == value_.size(), "one value per bundle");
   value_.assign(bundle_values.begin(), bundle_values.end());
   objective_ = ExactObjective();
 }

@@ -48,8 +48,10 @@ class DualSimplexSheetLp final : public SheetLp {
 
   SheetLpCounters counters() const override {
     return {.pivots = simplex_.iterations() + fallback_pivots_,
+            .degenerate_pivots = simplex_.degenerate_pivots(),
             .refactorizations = simplex_.refactorizations(),
-            .fallback_solves = fallback_solves_};
+            .fallback_solves = fallback_solves_,
+            .stalled_solves = simplex_.stalled_solves()};
   }
 
   std::span<const double> column_values() const override {

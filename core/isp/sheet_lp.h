@@ -32,8 +32,27 @@ enum class LpOutcome : uint8_t { kOptimal, kInfeasible };
 // What a back end did since it was made, for the run's statistics (core/quantize_result.h).
 struct SheetLpCounters {
   int64_t pivots = 0;
+  int64_t degenerate_pivots = 0;  // pivots with a dual step of zero (the objective stood still)
   int64_t refactorizations = 0;
   int64_t fallback_solves = 0;  // solves a back end handed to another solver
+  int64_t stalled_solves = 0;   // of those, solves given up after too many degenerate pivots
+
+  SheetLpCounters& operator+=(const SheetLpCounters& other) {
+    pivots += other.pivots;
+    degenerate_pivots += other.degenerate_pivots;
+    refactorizations += other.refactorizations;
+    fallback_solves += other.fallback_solves;
+    stalled_solves += other.stalled_solves;
+    return *this;
+  }
+  friend SheetLpCounters operator-(SheetLpCounters a, const SheetLpCounters& b) {
+    a.pivots -= b.pivots;
+    a.degenerate_pivots -= b.degenerate_pivots;
+    a.refactorizations -= b.refactorizations;
+    a.fallback_solves -= b.fallback_solves;
+    a.stalled_solves -= b.stalled_solves;
+    return a;
+  }
 };
 
 // A minimization LP over num_columns() columns that is edited in place between solves. New

@@ -58,10 +58,12 @@ absl::StatusOr<bool> SheetStepFinder::SolveRational(SheetSubproblem& subproblem,
   const SheetLpCounters before = subproblem.lp_counters();
   absl::StatusOr<bool> feasible = subproblem.Solve(request, &rational_);
   stats_.lp_solves += subproblem.solver_calls() - calls;
-  const SheetLpCounters& after = subproblem.lp_counters();
-  stats_.lp_pivots += after.pivots - before.pivots;
-  stats_.lp_refactorizations += after.refactorizations - before.refactorizations;
-  stats_.lp_fallback_solves += after.fallback_solves - before.fallback_solves;
+  const SheetLpCounters used = subproblem.lp_counters() - before;
+  stats_.lp_pivots += used.pivots;
+  stats_.lp_degenerate_pivots += used.degenerate_pivots;
+  stats_.lp_refactorizations += used.refactorizations;
+  stats_.lp_fallback_solves += used.fallback_solves;
+  stats_.lp_stalled_solves += used.stalled_solves;
   if (!feasible.ok()) return feasible.status();
   if (!*feasible || rational_.bundles.empty()) return false;
   // Paper Fig. 8 counts the denominators of every rational solution computed.

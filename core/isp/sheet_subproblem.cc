@@ -248,10 +248,7 @@ absl::StatusOr<bool> SheetSubproblem::RunSolver() {
   ++solver_calls_;
   const SheetLpCounters before = lp_->counters();
   const absl::StatusOr<LpOutcome> outcome = lp_->Solve();
-  const SheetLpCounters after = lp_->counters();
-  lp_counters_.pivots += after.pivots - before.pivots;
-  lp_counters_.refactorizations += after.refactorizations - before.refactorizations;
-  lp_counters_.fallback_solves += after.fallback_solves - before.fallback_solves;
+  lp_counters_ += lp_->counters() - before;
   if (!outcome.ok()) return outcome.status();
   return *outcome == LpOutcome::kOptimal;
 }

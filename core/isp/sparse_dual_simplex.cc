@@ -8,7 +8,7 @@
 
 #include "CoinFactorization.hpp"
 #include "CoinIndexedVector.hpp"
-#include "absl/base/macros.h"
+#include "core/invariant.h"
 #include "core/linear_terms.h"
 
 namespace ispq {
@@ -299,8 +299,10 @@ void SparseDualSimplex::ResetToSlackBasis() {
 
 void SparseDualSimplex::AdoptBasis(std::span<const uint8_t> is_basic,
                                    std::span<const double> column_values) {
-  ABSL_ASSERT(is_basic.size() == static_cast<size_t>(num_variables()));
-  ABSL_ASSERT(column_values.size() == static_cast<size_t>(num_columns_));
+  ISPQ_RELEASE_INVARIANT(is_basic.size() == static_cast<size_t>(num_variables()),
+                         "one basis flag per column and row");
+  ISPQ_RELEASE_INVARIANT(column_values.size() == static_cast<size_t>(num_columns_),
+                         "one value per column");
   at_artificial_bound_.clear();
   std::fill(edge_weight_.begin(), edge_weight_.end(), 1.0);
   factorization_valid_ = false;  // so that the moves below only record the values
@@ -400,6 +402,7 @@ bool SparseDualSimplex::Refactorize() {
     basic_variable_[permutation[k]] = basics[k];
     position_[basics[k]] = permutation[k];
   }
+  if constexpr (kCheckInvariants) CheckBasisInvariants();
   factorization_valid_ = true;
   RecomputePrimalValues();
   RecomputeReducedCosts();
@@ -676,6 +679,9 @@ int SparseDualSimplex::ChooseEntering(int direction, double* dual_step) {
 
 bool SparseDualSimplex::Pivot(int position, int entering, int direction, double dual_step) {
   const int leaving = basic_variable_[position];
+  ISPQ_INVARIANT(status_[entering] != VarStatus::kBasic, "the entering variable is nonbasic");
+  ISPQ_INVARIANT(position_[leaving] == position, "the leaving variable sits at its position");
+  ISPQ_INVARIANT(dual_step >= 0, "a dual simplex step never lowers the objective");
   // The leaving row's exact steepest-edge weight |rho|^2 (rho is at hand).
   double rho_norm = 0;
   {
@@ -741,6 +747,32 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
   return true;
 }
 
+void SparseDualSimplex::CheckBasisInvariants() const {
+  int basic = 0;
+  for (int v = 0; v < num_variables(); ++v) {
+    if (status_[v] != VarStatus::kBasic) continue;
+    ++basic;
+    ISPQ_INVARIANT(position_[v] >= 0 && position_[v] < num_rows_, "a basic variable has a row");
+    ISPQ_INVARIANT(basic_variable_[position_[v]] == v, "position and basis agree");
+  }
+  ISPQ_INVARIANT(basic == num_rows_, "the basis is square");
+}
+
+void SparseDualSimplex::CheckOptimalInvariants() const {
+  // The answer is primal feasible within the tolerance the leaving row's choice uses, and every
+  // nonbasic variable sits on a bound (or at 0 when it has none).
+  for (int v = 0; v < num_variables(); ++v) {
+    if (status_[v] == VarStatus::kBasic) {
+      ISPQ_INVARIANT(Infeasibility(v) <= 1e3 * options_.primal_tolerance,
+                     "an optimal basis is primal feasible");
+    } else {
+      const double x = value_[v];
+      ISPQ_INVARIANT(x == lower_[v] || x == upper_[v] || (status_[v] == VarStatus::kFree && x == 0),
+                     "a nonbasic variable sits on a bound");
+    }
+  }
+}
+
 bool SparseDualSimplex::most_costs_changed() const {
   return costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
 }
@@ -759,6 +791,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
   bool reset = false;
   bool values_exact = false;
   int drops_since_pivot = 0;
+  int64_t degenerate_run = 0;  // pivots in a row that left the objective where it was
   while (true) {
     if (!factorization_valid_ || factorization_->pivots() >= options_.max_pivots) {
       dual_check_.clear();
@@ -787,7 +820,9 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
         values_exact = true;
         continue;
       }
-      return LeftArtificialBounds() ? Status::kOptimal : Status::kFailed;
+      if (!LeftArtificialBounds()) return Status::kFailed;
+      if constexpr (kCheckInvariants) CheckOptimalInvariants();
+      return Status::kOptimal;
     }
     if (++iterations > max_iterations) return Status::kFailed;
     ComputePivotRow(position);
@@ -823,6 +858,15 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
       continue;
     }
     ++iterations_;
+    if (dual_step > 0) {
+      degenerate_run = 0;
+    } else {
+      ++degenerate_pivots_;
+      if (++degenerate_run > options_.max_degenerate_pivots) {
+        ++stalled_solves_;
+        return Status::kFailed;
+      }
+    }
   }
 }
 

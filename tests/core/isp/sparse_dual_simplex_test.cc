@@ -1,17 +1,27 @@
 // SPDX-License-Identifier: Apache-2.0
 // The sparse dual simplex (core/isp/sparse_dual_simplex.h) against CLP on long sequences of the
-// edits the quantizer makes to a sheet LP, on its own edge cases, and on what it gives up on.
+// edits the quantizer makes to a sheet LP, on every LP of real runs, on its own edge cases
+// (degenerate and singular starts), and on what it gives up on.
 #include "core/isp/sparse_dual_simplex.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <iostream>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/isp/clp_sheet_lp.h"
+#include "core/isp/dual_simplex_sheet_lp.h"
+#include "core/isp/integer_sheet_pump.h"
+#include "core/isp/isp_tuning.h"
+#include "core/quantization_validator.h"
 #include "gtest/gtest.h"
+#include "tests/support/test_data.h"
 
 namespace ispq {
 namespace {
@@ -347,6 +357,238 @@ TEST(SparseDualSimplexTest, GoesOnFromAnAdoptedOptimalBasis) {
   ASSERT_EQ(expected, LpOutcome::kOptimal);
   EXPECT_NEAR(lp.Objective(lp.simplex().column_values()), objective, 1e-9);
   EXPECT_LT(lp.Violation(lp.simplex().column_values()), 1e-9);
+}
+
+// A degenerate LP: every cost zero, so every pivot leaves the objective at zero. The solver ends
+// feasible, counts the pivots as degenerate, and with the stall limit at zero gives the LP up as
+// stalled instead of pivoting on (the caller's general solver then takes it).
+TEST(SparseDualSimplexTest, CountsDegeneratePivotsAndGivesUpAStall) {
+  auto make = [](const SparseDualSimplexOptions& options) {
+    auto simplex = std::make_unique<SparseDualSimplex>(4, options);
+    LpRowBatch rows;
+    rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    rows.Add(std::vector<int32_t>{1, 2}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    rows.Add(std::vector<int32_t>{2, 3}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    simplex->AddRows(rows);
+    for (int j = 0; j < 4; ++j) simplex->SetColumnBounds(j, 0, 5);
+    return simplex;
+  };
+  std::unique_ptr<SparseDualSimplex> simplex = make({});
+  ASSERT_EQ(simplex->Solve(), Status::kOptimal);
+  const std::span<const double> x = simplex->column_values();
+  EXPECT_GE(x[0] + x[1], 1 - 1e-9);
+  EXPECT_GE(x[1] + x[2], 1 - 1e-9);
+  EXPECT_GE(x[2] + x[3], 1 - 1e-9);
+  ASSERT_GT(simplex->iterations(), 0);
+  EXPECT_EQ(simplex->degenerate_pivots(), simplex->iterations());
+  EXPECT_EQ(simplex->stalled_solves(), 0);
+
+  std::unique_ptr<SparseDualSimplex> stalling = make({.max_degenerate_pivots = 0});
+  EXPECT_EQ(stalling->Solve(), Status::kFailed);
+  EXPECT_EQ(stalling->stalled_solves(), 1);
+}
+
+// A basis that is singular (two equal rows, both their logicals out of it) cannot be factorized:
+// the solver falls back to the slack basis and still reaches the optimum CLP finds.
+TEST(SparseDualSimplexTest, RecoversFromASingularAdoptedBasis) {
+  SparseDualSimplex simplex(3);
+  LpRowBatch rows;
+  rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, 1}, 2, kLpInfinity);
+  rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, 1}, 2, kLpInfinity);
+  rows.Add(std::vector<int32_t>{1, 2}, std::vector<double>{1, -1}, 0, 0);
+  simplex.AddRows(rows);
+  const double cost[3] = {3, 1, 1};
+  for (int j = 0; j < 3; ++j) {
+    simplex.SetObjectiveCoefficient(j, cost[j]);
+    simplex.SetColumnBounds(j, 0, 10);
+  }
+  // Columns 0 and 1 and the third row's logical basic: B has the equal rows' [1 1] twice.
+  const std::vector<uint8_t> is_basic = {1, 1, 0, 0, 0, 1};
+  const std::vector<double> values = {1, 1, 0};
+  simplex.AdoptBasis(is_basic, values);
+  ASSERT_EQ(simplex.Solve(), Status::kOptimal);
+  const std::span<const double> x = simplex.column_values();
+  // Optimum: x1 = x2 = 2 (cost 4) rather than x0 = 2 (cost 6).
+  EXPECT_NEAR(x[0], 0, 1e-12);
+  EXPECT_NEAR(x[1], 2, 1e-12);
+  EXPECT_NEAR(x[2], 2, 1e-12);
+}
+
+// Every LP the quantizer solves on real T-meshes, solved twice: by the sparse dual simplex (which
+// answers, so the run goes as it would) and by CLP kept alongside with the same edits. Both must
+// agree on feasibility and on the optimal objective, solve by solve. Unlike the generated LPs
+// above, these carry the real meshes' structure: their T-junction rows, separation rows, the
+// weights' 1e-3..1e20 span, and the bulk descent's unit-move LPs.
+class MirroredSheetLp : public SheetLp {
+ public:
+  struct Tally {
+    int64_t solves = 0;
+    int64_t disagreements = 0;
+    int64_t warm_clp_disagreements = 0;  // settled by a fresh CLP
+    std::string first_disagreement;
+  };
+
+  MirroredSheetLp(int num_columns, Tally* tally)
+      : simplex_(DualSimplexSheetLpFactory(
+            {.new_objective_clp_min_columns = std::numeric_limits<int>::max()})(num_columns)),
+        clp_(ClpSheetLpFactory()(num_columns)),
+        cost_(num_columns, 0),
+        lower_(num_columns, 0),
+        upper_(num_columns, kLpInfinity),
+        tally_(tally) {}
+
+  int num_columns() const override { return simplex_->num_columns(); }
+  int num_rows() const override { return simplex_->num_rows(); }
+  void SetObjectiveCoefficient(int column, double value) override {
+    cost_[column] = value;
+    simplex_->SetObjectiveCoefficient(column, value);
+    clp_->SetObjectiveCoefficient(column, value);
+  }
+  void SetColumnBounds(int column, double lower, double upper) override {
+    lower_[column] = lower;
+    upper_[column] = upper;
+    simplex_->SetColumnBounds(column, lower, upper);
+    clp_->SetColumnBounds(column, lower, upper);
+  }
+  void SetRowBounds(int row, double lower, double upper) override {
+    rows_[row].lower = lower;
+    rows_[row].upper = upper;
+    simplex_->SetRowBounds(row, lower, upper);
+    clp_->SetRowBounds(row, lower, upper);
+  }
+  void AddRows(const LpRowBatch& batch) override {
+    for (int i = 0; i < batch.size(); ++i) {
+      Row& row = rows_.emplace_back();
+      for (int32_t t = batch.starts()[i]; t < batch.starts()[i + 1]; ++t) {
+        row.terms.push_back({batch.columns()[t], batch.coefs()[t]});
+      }
+      row.lower = batch.lower()[i];
+      row.upper = batch.upper()[i];
+    }
+    simplex_->AddRows(batch);
+    clp_->AddRows(batch);
+  }
+  bool wants_column_cap() const override { return true; }  // CLP needs it
+
+  absl::StatusOr<LpOutcome> Solve() override {
+    absl::StatusOr<LpOutcome> ours = simplex_->Solve();
+    ++tally_->solves;
+    std::string disagreement = Disagreement(ours, clp_->Solve(), *clp_);
+    if (!disagreement.empty()) {
+      // The warm CLP is wrong at times (it called feasible LPs infeasible): a fresh CLP on the
+      // model as it stands decides.
+      ++tally_->warm_clp_disagreements;
+      std::unique_ptr<SheetLp> fresh = FreshClp();
+      disagreement = Disagreement(ours, fresh->Solve(), *fresh);
+    }
+    if (!disagreement.empty() && tally_->disagreements++ == 0) {
+      tally_->first_disagreement = "solve " + std::to_string(tally_->solves) + " (" +
+                                   std::to_string(num_columns()) + " columns, " +
+                                   std::to_string(num_rows()) + " rows): " + disagreement;
+    }
+    return ours;
+  }
+  std::span<const double> column_values() const override { return simplex_->column_values(); }
+
+ private:
+  double Objective(std::span<const double> x) const {
+    double sum = 0;
+    for (size_t j = 0; j < x.size(); ++j) sum += cost_[j] * x[j];
+    return sum;
+  }
+
+  // Empty if the two answers agree on feasibility and on the optimal objective.
+  std::string Disagreement(const absl::StatusOr<LpOutcome>& ours,
+                           const absl::StatusOr<LpOutcome>& theirs, const SheetLp& clp) const {
+    if (!ours.ok() || !theirs.ok()) return "a back end failed";
+    auto name = [](LpOutcome o) { return o == LpOutcome::kOptimal ? "optimal" : "infeasible"; };
+    if (*ours != *theirs) {
+      const std::span<const double> x =
+          *ours == LpOutcome::kOptimal ? simplex_->column_values() : clp.column_values();
+      return std::string("ours ") + name(*ours) + ", CLP " + name(*theirs) +
+             "; the optimal answer violates the model by " + std::to_string(Violation(x));
+    }
+    if (*ours != LpOutcome::kOptimal) return "";
+    const double a = Objective(simplex_->column_values()), b = Objective(clp.column_values());
+    if (std::abs(a - b) <= 1e-7 * (1 + std::abs(b))) return "";
+    return "objective " + std::to_string(a) + " vs CLP " + std::to_string(b);
+  }
+
+  std::unique_ptr<SheetLp> FreshClp() const {
+    std::unique_ptr<SheetLp> fresh = ClpSheetLpFactory()(num_columns());
+    LpRowBatch batch;
+    for (const Row& row : rows_) {
+      std::vector<int32_t> columns;
+      std::vector<double> coefs;
+      for (const auto& [column, coef] : row.terms) {
+        columns.push_back(column);
+        coefs.push_back(coef);
+      }
+      batch.Add(columns, coefs, row.lower, row.upper);
+    }
+    fresh->AddRows(batch);
+    for (int j = 0; j < num_columns(); ++j) {
+      fresh->SetObjectiveCoefficient(j, cost_[j]);
+      fresh->SetColumnBounds(j, lower_[j], upper_[j]);
+    }
+    return fresh;
+  }
+
+  double Violation(std::span<const double> x) const {
+    double worst = 0;
+    for (size_t j = 0; j < x.size(); ++j)
+      worst = std::max({worst, lower_[j] - x[j], x[j] - upper_[j]});
+    for (const Row& row : rows_) {
+      double activity = 0;
+      for (const auto& [column, coef] : row.terms) activity += coef * x[column];
+      worst = std::max({worst, row.lower - activity, activity - row.upper});
+    }
+    return worst;
+  }
+
+  struct Row {
+    std::vector<std::pair<int32_t, double>> terms;
+    double lower, upper;
+  };
+  std::unique_ptr<SheetLp> simplex_, clp_;
+  std::vector<double> cost_, lower_, upper_;
+  std::vector<Row> rows_;
+  Tally* tally_;
+};
+
+TEST(SparseDualSimplexTest, AgreesWithClpOnEverySheetLpOfRealMeshes) {
+  MirroredSheetLp::Tally tally;
+  const SheetLpFactory mirrored = [&tally](int n) {
+    return std::make_unique<MirroredSheetLp>(n, &tally);
+  };
+  for (const char* file :
+       {"hex-me/s14b_cube_corner_sub_sphere.tmesh.json", "hex-me/n06u_anti_pentapyr.tmesh.json",
+        "hex-me/s06c_dodecahedron.tmesh.json",
+        "singularity-constrained-fields/fanpart.tmesh.json"}) {
+    const TMesh mesh = testing::LoadTMeshOrDie(testing::RealTMeshPath(file));
+    for (const Level& level : mesh.levels()) {
+      if (level.percent != 1 && level.percent != 25 && level.percent != 100) continue;
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      // Root by root, as these small meshes run, and in bulk (the unit-move LPs of large ones).
+      for (const int bulk_min_bundles : {IspTuning{}.bulk_descent_min_bundles, 1}) {
+        IspTuning tuning;
+        tuning.bulk_descent_min_bundles = bulk_min_bundles;
+        const absl::StatusOr<IspOutcome> outcome =
+            RunIntegerSheetPump(mesh, options, mirrored, tuning, nullptr, nullptr);
+        ASSERT_TRUE(outcome.ok()) << file << " level " << level.percent << ": " << outcome.status();
+        const absl::StatusOr<ValidationReport> report = ValidateQuantization(mesh, outcome->q);
+        ASSERT_TRUE(report.ok());
+        EXPECT_TRUE(report->valid()) << file << " level " << level.percent << ":\n"
+                                     << report->Describe();
+      }
+    }
+  }
+  EXPECT_GT(tally.solves, 1000) << "the runs must solve enough LPs for the test to mean much";
+  EXPECT_EQ(tally.disagreements, 0)
+      << "of " << tally.solves << "; first: " << tally.first_disagreement;
+  std::cout << tally.solves << " LPs solved by both; the warm CLP disagreed on "
+            << tally.warm_clp_disagreements << ", a fresh CLP sided with the sparse simplex\n";
 }
 
 }  // namespace
