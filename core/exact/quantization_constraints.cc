@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "core/exact/quantization_constraints.h"
 
+#include "core/bundle_row_pair.h"
 #include "core/simple_constraints.h"
 
 namespace ispq {
@@ -48,18 +49,11 @@ bool QuantizationConstraints::AddInequality(std::span<const LinearTerm> terms, i
 
 bool QuantizationConstraints::AddSeparationRow(const SeparationRow& row,
                                                const std::optional<SeparationRow>& failsafe) {
-  const SeparationRow& twin = failsafe.has_value() ? *failsafe : row;
-  std::vector<LinearTerm> failsafe_terms = bundles_.ToBundleTerms(twin.terms);
-  std::vector<LinearTerm> terms = bundles_.ToBundleTerms(row.terms);
-  int64_t rhs = row.rhs;
-  if (terms.empty()) {
-    terms = failsafe_terms;
-    rhs = twin.rhs;
-  }
-  if (!AddInequality(terms, rhs)) return false;
+  BundleRowPair pair = ToBundleRowPair(bundles_, row, failsafe.has_value() ? *failsafe : row);
+  if (!AddInequality(pair.default_terms, pair.default_rhs)) return false;
   separation_index_.push_back(num_inequalities() - 1);
-  failsafe_.push_back(std::move(failsafe_terms));
-  failsafe_rhs_.push_back(twin.rhs);
+  failsafe_.push_back(std::move(pair.failsafe_terms));
+  failsafe_rhs_.push_back(pair.failsafe_rhs);
   return true;
 }
 

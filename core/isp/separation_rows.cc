@@ -6,6 +6,7 @@
 
 #include "absl/container/flat_hash_map.h"
 #include "core/block_extents.h"
+#include "core/bundle_row_pair.h"
 #include "core/simple_constraints.h"
 
 namespace ispq {
@@ -114,9 +115,8 @@ SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationVi
 void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_rows,
                                   SubproblemSet& subproblems, std::vector<int32_t>* to_attach,
                                   Added* added) {
-  const std::vector<LinearTerm> failsafe_terms = bundles_.ToBundleTerms(v.failsafe_row.terms);
-  std::vector<LinearTerm> default_terms = bundles_.ToBundleTerms(v.default_row.terms);
-  int64_t default_rhs = v.default_row.rhs;
+  const BundleRowPair pair = ToBundleRowPair(bundles_, v.default_row, v.failsafe_row);
+  const std::vector<LinearTerm>& failsafe_terms = pair.failsafe_terms;
   if (failsafe_terms.empty()) return;  // cannot happen for +1 rows with terms
   // The cap holds per subproblem (of the row's first bundle): independent parts of a mesh each
   // get their rows in the same round, or a mesh of many parts would need a round per row pair.
@@ -125,15 +125,10 @@ void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_
     added->dropped = true;
     return;
   }
-  // A default row whose mixed terms cancel within a bundle can never hold: use B+ for it.
-  if (default_terms.empty()) {
-    default_terms = failsafe_terms;
-    default_rhs = v.failsafe_row.rhs;
-  }
-  int32_t r = rows_.Find(default_terms, default_rhs);
+  int32_t r = rows_.Find(pair.default_terms, pair.default_rhs);
   bool activates = false;
   if (r == kNoId) {
-    r = Add(default_terms, default_rhs, RowOrigin::kStructural, true);
+    r = Add(pair.default_terms, pair.default_rhs, RowOrigin::kStructural, true);
     to_attach->push_back(r);
     activates = true;
   } else if (!rows_.active(r)) {
@@ -146,8 +141,8 @@ void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_
   }
   is_default_[r] = 1;
   if (failsafe_of_[r] == kNoId) {
-    int32_t f = rows_.Find(failsafe_terms, v.failsafe_row.rhs);
-    if (f == kNoId) f = Add(failsafe_terms, v.failsafe_row.rhs, RowOrigin::kFailsafe, false);
+    int32_t f = rows_.Find(failsafe_terms, pair.failsafe_rhs);
+    if (f == kNoId) f = Add(failsafe_terms, pair.failsafe_rhs, RowOrigin::kFailsafe, false);
     failsafe_of_[r] = f;
   }
 }
