@@ -2,14 +2,13 @@
 #include "core/separation_search.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <utility>
 
 #include "core/block_node_positions.h"
 #include "core/integer_box.h"
+#include "core/invariant.h"
 #include "core/linear_terms.h"
 #include "core/separation_search_tables.h"
 #include "core/separation_start_configurations.h"
@@ -20,17 +19,17 @@ namespace {
 
 // One walk, stored once in an arena; its path is recovered through the parent links.
 struct Walk {
-  IntVec3 x;       // position of `node` relative to the start node, in the reference frame
+  IntVec3 offset;  // position of `node` relative to the start node, in the reference frame
   double cost;     // target length walked off the link axis
   int32_t parent;  // arena index, -1 for the start
   HalfarcId step;  // the halfarc that led here, kNoId for the start
   NodeId node;
-  SlotId slot;        // (block used for the last step, node)
-  int32_t k;          // number of halfarcs walked after branching
-  Rotation rotation;  // M: reference frame -> frame of the slot's block
-  DirSet walked;      // W
-  DirSet monotone;    // M
-  Dir step_dir;       // direction of `step` in the reference frame
+  SlotId slot;                    // (block used for the last step, node)
+  int32_t steps_after_branching;  // halfarcs walked since the walk branched
+  Rotation rotation;              // M: reference frame -> frame of the slot's block
+  DirSet walked;                  // W
+  DirSet monotone;                // M
+  Dir step_dir;                   // direction of `step` in the reference frame
   bool branched;
   // Branched and already past the start box along the monotone direction by more than negative
   // arcs could ever bring back: neither this walk nor any walk extending it can report.
@@ -39,18 +38,19 @@ struct Walk {
 
 struct QueueEntry {
   double cost;
-  int32_t k;
+  int32_t steps_after_branching;
   int32_t walk;
 };
 
 // The reference's heap order (a std::priority_queue over (length, path size)): the smallest
-// (cost, k) on top, and among equal keys the heap's own layout decides. That is deterministic
-// for a given sequence of pushes and pops, so with the same pushes in the same order ties pop
-// exactly as in the reference, and rows can be compared with upstream's one for one
+// (cost, steps_after_branching) on top, and among equal keys the heap's own layout decides. That is
+// deterministic for a given sequence of pushes and pops, so with the same pushes in the same order
+// ties pop exactly as in the reference, and rows can be compared with upstream's one for one
 // (tests/differential). Both block-box modes use it, so they differ in admissibility only.
 struct PopsLater {
   bool operator()(const QueueEntry& a, const QueueEntry& b) const {
-    return a.cost > b.cost || (a.cost == b.cost && a.k > b.k);
+    return a.cost > b.cost ||
+           (a.cost == b.cost && a.steps_after_branching > b.steps_after_branching);
   }
 };
 
@@ -255,11 +255,8 @@ IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) 
 
 int64_t SeparationSearch::Impl::FindViolations(
     std::span<const int64_t> q, const std::function<bool(SeparationViolation&)>& sink) {
-  if (static_cast<int>(q.size()) != mesh_.num_arcs()) {
-    std::fprintf(stderr, "SeparationSearch::FindViolations: q has %zu entries for %d arcs\n",
-                 q.size(), mesh_.num_arcs());
-    std::abort();
-  }
+  ISPQ_RELEASE_INVARIANT(static_cast<int>(q.size()) == mesh_.num_arcs(),
+                         "the search is given one length per arc of its mesh");
   if (!std::equal(q.begin(), q.end(), geometry_q_.begin(), geometry_q_.end())) {
     geometry_q_.assign(q.begin(), q.end());
     geometry_ready_.Clear();
@@ -294,13 +291,13 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   hopeful_in_queue_ = 0;
 
   Walk start;
-  start.x = {0, 0, 0};
+  start.offset = {0, 0, 0};
   start.cost = 0;
   start.parent = -1;
   start.step = kNoId;
   start.node = configs_[config].start_node;
   start.slot = tables_->config_start_slot(config);
-  start.k = 0;
+  start.steps_after_branching = 0;
   start.rotation = Rotation();  // the identity: the start block's frame is the reference frame
   start.walked = 0;
   start.monotone = kAllDirBits & static_cast<DirSet>(~link_axis_);
@@ -323,7 +320,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
 
     // Every patch at the node contains the node, so while the walk's position lies in the start
     // box every patch box touches it and the fan may cross every patch.
-    const bool at_start_box = TouchesStartBox(PointBox(walk.x));
+    const bool at_start_box = TouchesStartBox(PointBox(walk.offset));
     BuildFan(walk, at_start_box);
     BuildCandidates(walk);
     if (walk.branched) {
@@ -342,7 +339,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
 
 void SeparationSearch::Impl::Push(const Walk& walk) {
   if (!walk.hopeless) ++hopeful_in_queue_;
-  queue_.push_back({walk.cost, walk.k, static_cast<int32_t>(arena_.size())});
+  queue_.push_back({walk.cost, walk.steps_after_branching, static_cast<int32_t>(arena_.size())});
   arena_.push_back(walk);
   std::push_heap(queue_.begin(), queue_.end(), PopsLater());
 }
@@ -352,7 +349,7 @@ IntBox SeparationSearch::Impl::PatchBox(const Walk& walk, HalfpatchId side, Slot
   const IntVec3& at = positions_[slot];
   const IntBox& own = side_boxes_[side];
   const IntBox local = RotateBox(to_reference, IntBox{Subtract(own.lo, at), Subtract(own.hi, at)});
-  return {Add(walk.x, local.lo), Add(walk.x, local.hi)};
+  return {Add(walk.offset, local.lo), Add(walk.offset, local.hi)};
 }
 
 // core/README.md, section The fan: breadth-first over the blocks around the node, crossing a patch
@@ -431,7 +428,7 @@ bool SeparationSearch::Impl::FindViolationDirs(const Walk& walk, bool at_start_b
       length = -length;
       along = Opposite(along);
     }
-    if (TouchesStartBox(SpannedBox(walk.x, AddAlong(walk.x, along, length)))) {
+    if (TouchesStartBox(SpannedBox(walk.offset, AddAlong(walk.offset, along, length)))) {
       dirs = approach;
       kind = SeparationTargetKind::kArc;
       target = arc;
@@ -470,10 +467,12 @@ bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, Blo
   }
   const Rotation to_reference = fan_to_reference_[block];
   const IntVec3& at = positions_[fan_slot_[block]];
-  const IntVec3 low = Add(
-      walk.x, to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMinCorner)], at)));
-  const IntVec3 high = Add(
-      walk.x, to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMaxCorner)], at)));
+  const IntVec3 low =
+      Add(walk.offset,
+          to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMinCorner)], at)));
+  const IntVec3 high =
+      Add(walk.offset,
+          to_reference.Apply(Subtract(positions_[slots_.corner_slot(block, kMaxCorner)], at)));
   const IntBox block_box =
       options_.block_box == BlockBoxMode::kSorted ? SpannedBox(low, high) : IntBox{low, high};
   const bool admissible = TouchesStartBox(block_box);
@@ -506,8 +505,8 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         next.branched = true;
         next.monotone &= dir_bit;
       }
-      if (next.branched) ++next.k;
-      next.x = AddAlong(walk.x, dir, q[arc]);
+      if (next.branched) ++next.steps_after_branching;
+      next.offset = AddAlong(walk.offset, dir, q[arc]);
       next.walked |= dir_bit;
       next.monotone &= static_cast<DirSet>(~DirBit(Opposite(dir)));
       if (next.monotone == 0) continue;  // walked against the monotone direction
@@ -525,7 +524,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         // once.
         const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
         const int64_t ahead =
-            IsNegative(monotone) ? -next.x[AxisOf(monotone)] : next.x[AxisOf(monotone)];
+            IsNegative(monotone) ? -next.offset[AxisOf(monotone)] : next.offset[AxisOf(monotone)];
         next.hopeless = ahead > negative_slack_;
       }
       Push(next);
