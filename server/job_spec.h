@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // What a job is asked to do, fully validated and resolved at admission: the mesh, the core
 // options (scaling resolved against the mesh, the time limit capped by the server), how often to
-// report, who asked, and the memory reserved for it. Everything a client can get wrong is
-// rejected here, before the job exists, so that a worker never meets bad input; a job the memory
-// budget cannot hold is refused here too (server/memory_admission.h).
+// report, who asked, and the memory reserved for it. It is built, and everything a client can get
+// wrong rejected, by server/job_admission.h, before the job exists, so that a worker
+// never meets bad input.
 #ifndef ISPQ_SERVER_JOB_SPEC_H_
 #define ISPQ_SERVER_JOB_SPEC_H_
 
@@ -18,12 +18,8 @@
 #include "ispq/v1/quantization.pb.h"
 #include "ispq/v1/service.pb.h"
 #include "server/memory_budget.h"
-#include "server/mesh_store.h"
-#include "server/principal.h"
 
 namespace ispq::server {
-
-class MemoryAdmission;  // server/memory_admission.h, which needs jobs and so this header
 
 inline constexpr absl::Duration kDefaultProgressInterval = absl::Milliseconds(100);
 // Reporting more often than this costs the solver more than any client can use.
@@ -46,31 +42,6 @@ struct JobSpec {
   // reservation travels with the mesh.
   MemoryReservation memory;
 };
-
-struct JobLimits {
-  int max_arcs = 0;
-  absl::Duration max_job_time = absl::InfiniteDuration();
-};
-
-// Where a request is admitted from.
-struct AdmissionContext {
-  const JobLimits& limits;
-  const Principal& principal;
-  MeshStore& meshes;
-  MemoryAdmission& memory;
-};
-
-// INVALID_ARGUMENT for a bad mesh, option or interval; NOT_FOUND for an unknown stored mesh (or
-// one of another principal); RESOURCE_EXHAUSTED when the memory budget cannot hold the job.
-// `request_bytes` is the request's size on the wire, an upper bound of its mesh's.
-absl::StatusOr<JobSpec> PrepareJobSpec(const v1::QuantizeRequest& request, int64_t request_bytes,
-                                       const AdmissionContext& context);
-
-// The stored mesh `name` if `principal` may use it; INVALID_ARGUMENT for a malformed name,
-// NOT_FOUND otherwise (also for another principal's mesh, which is not revealed to exist).
-absl::StatusOr<std::shared_ptr<const StoredMesh>> FindStoredMesh(const std::string& name,
-                                                                 const Principal& principal,
-                                                                 MeshStore& meshes);
 
 }  // namespace ispq::server
 

@@ -35,6 +35,7 @@
 #include "ispq/v1/service.grpc.pb.h"
 #include "server/admission_pool.h"
 #include "server/authenticator.h"
+#include "server/job_admission.h"
 #include "server/job_event_stream.h"
 #include "server/job_scheduler.h"
 #include "server/job_spec.h"

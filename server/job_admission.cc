@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/job_spec.h"
+#include "server/job_admission.h"
 
 #include <algorithm>
 #include <utility>
@@ -8,7 +8,6 @@
 #include "absl/strings/str_cat.h"
 #include "core/proto/quantization_proto.h"
 #include "server/job_memory.h"
-#include "server/memory_admission.h"
 #include "server/mesh_admission.h"
 #include "server/resource_names.h"
 
