@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/admission_pool.h"
+#include "server/admission/admission_pool.h"
 
 #include <atomic>
 #include <memory>

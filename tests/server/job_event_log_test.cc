@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/job_event_log.h"
+#include "server/model/job_event_log.h"
 
 #include <vector>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/job_queue.h"
+#include "server/jobs/job_queue.h"
 
 #include <thread>
 

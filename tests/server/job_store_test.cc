@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/job_store.h"
+#include "server/store/job_store.h"
 
 #include <string>
 #include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
-#include "server/in_memory_job_store.h"
-#include "server/postgres_job_store.h"
+#include "server/store/in_memory_job_store.h"
+#include "server/store/postgres/postgres_job_store.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/postgres_instance.h"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/memory_admission.h"
+#include "server/admission/memory_admission.h"
 
 #include <memory>
 #include <optional>
@@ -10,8 +10,8 @@
 #include "core/quantization_validator.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
-#include "server/mesh_admission.h"
-#include "server/retry_hint.h"
+#include "server/jobs/retry_hint.h"
+#include "server/model/mesh_admission.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/test_data.h"
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/memory_limit.h"
+#include "server/memory/memory_limit.h"
 
 #include <unistd.h>
 

@@ -10,7 +10,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/synchronization/notification.h"
 #include "gtest/gtest.h"
-#include "server/postgres_job_store.h"
+#include "server/store/postgres/postgres_job_store.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
 #include "tests/support/postgres_instance.h"

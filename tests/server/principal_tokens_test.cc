@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/principal_tokens.h"
+#include "server/auth/principal_tokens.h"
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/progress_publisher.h"
+#include "server/jobs/progress_publisher.h"
 
 #include <thread>
 #include <vector>

@@ -5,8 +5,8 @@
 
 #include "gtest/gtest.h"
 #include "server/http/http_status.h"
-#include "server/job_scheduler.h"
-#include "server/mesh_store.h"
+#include "server/jobs/job_scheduler.h"
+#include "server/store/mesh_store.h"
 
 namespace ispq::server::http {
 namespace {

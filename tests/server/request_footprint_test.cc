@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/request_footprint.h"
+#include "server/admission/request_footprint.h"
 
 #include <string>
 

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/request_ids.h"
+#include "server/admission/request_ids.h"
 
 #include <memory>
 #include <optional>
@@ -8,7 +8,7 @@
 #include "absl/container/flat_hash_map.h"
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
-#include "server/request_fingerprint.h"
+#include "server/admission/request_fingerprint.h"
 #include "tests/server/server_test_jobs.h"
 
 namespace ispq::server {

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/resource_names.h"
+#include "server/model/resource_names.h"
 
 #include <set>
 #include <string>

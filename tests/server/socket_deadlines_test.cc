@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// SocketDeadlines (server/socket_deadlines.h): a blocking read on a socket whose peer never
+// SocketDeadlines (server/store/postgres/socket_deadlines.h): a blocking read on a socket whose peer never
 // answers returns once its deadline passes, and a guard gone before its deadline leaves the
 // socket alone.
-#include "server/socket_deadlines.h"
+#include "server/store/postgres/socket_deadlines.h"
 
 #include <sys/socket.h>
 #include <unistd.h>
