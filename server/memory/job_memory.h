@@ -13,7 +13,7 @@
 //
 // calibrated on the peak of live heap bytes of in-process solves (every allocation of every
 // library, by usable size: tests/bench/solve_memory_benchmark.cc, 225 ISP runs at levels 5, 25
-// and 100), which tests/server/solver_memory_test.cc holds it to:
+// and 100), which tests/server/memory/solver_memory_test.cc holds it to:
 //   * Arcs and bundles: the mesh's tables, the separation search, the rows, the LP columns, and
 //     CLP's copy of an LP when a solve goes to CLP (on LPs of 4000 columns or more, every new
 //     objective does). Single parts of 30k and 100k arcs take 1.16-1.43 KB per arc (12.8-16.8
