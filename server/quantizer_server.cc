@@ -10,9 +10,9 @@
 #include "grpcpp/ext/proto_server_reflection_plugin.h"
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/server_builder.h"
-#include "server/postgres_job_store.h"
-#include "server/postgres_mesh_store.h"
 #include "server/server_credentials.h"
+#include "server/store/postgres/postgres_job_store.h"
+#include "server/store/postgres/postgres_mesh_store.h"
 #include "spdlog/spdlog.h"
 
 namespace ispq::server {

@@ -7,7 +7,7 @@
 //   * gRPC's callback API. RPC handlers run on gRPC's own threads and never block: lookups are
 //     answered there; requests that carry a mesh (Quantize, SubmitJob, CreateMesh) are parsed
 //     and validated there only when small, else on a small admission pool (--admission_threads,
-//     server/admission_pool.h), so that a burst of large requests cannot occupy gRPC's threads
+//     server/admission/admission_pool.h), so that a burst of large requests cannot occupy gRPC's threads
 //     and stall health checks. The streaming methods (Quantize, WatchJob) return a reactor
 //     (JobEventStream) that writes one event at a time and is woken by the job when it has a new
 //     event and by gRPC when a write completes. A thousand watchers cost a thousand small
@@ -28,9 +28,9 @@
 //     calls nothing).
 //
 // Memory: everything held for clients is accounted in one budget (--max_memory_bytes,
-// server/memory_budget.h): requests while they are admitted, queued and running jobs' meshes and
+// server/memory/memory_budget.h): requests while they are admitted, queued and running jobs' meshes and
 // solver memory, stored meshes, retained results and responses in flight. Admission refuses
-// what does not fit after evicting retained results and stored meshes (server/memory_admission.h).
+// what does not fit after evicting retained results and stored meshes (server/admission/memory_admission.h).
 //
 // HTTP side (--http_listen, server/http/http_server.h): a second listener on threads of its own
 // that calls the same service operations, so both transports share jobs, principals, limits
@@ -57,17 +57,17 @@
 
 #include "absl/status/statusor.h"
 #include "grpcpp/server.h"
-#include "server/authenticator.h"
+#include "server/admission/memory_admission.h"
+#include "server/auth/authenticator.h"
+#include "server/grpc/quantizer_service.h"
 #include "server/http/http_server.h"
-#include "server/job_scheduler.h"
-#include "server/job_store.h"
-#include "server/memory_admission.h"
-#include "server/memory_budget.h"
-#include "server/mesh_store.h"
-#include "server/quantizer_service.h"
+#include "server/jobs/job_scheduler.h"
+#include "server/memory/memory_budget.h"
+#include "server/metrics/server_metrics.h"
 #include "server/readiness_monitor.h"
 #include "server/server_config.h"
-#include "server/server_metrics.h"
+#include "server/store/job_store.h"
+#include "server/store/mesh_store.h"
 
 namespace ispq::server {
 

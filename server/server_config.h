@@ -10,7 +10,7 @@
 
 #include "absl/status/status.h"
 #include "absl/time/time.h"
-#include "server/principal_tokens.h"
+#include "server/auth/principal_tokens.h"
 
 namespace ispq::server {
 
@@ -34,15 +34,15 @@ struct ServerConfig {
   int retain_finished_jobs = 1000;
   absl::Duration retain_finished_time = absl::Hours(1);
   int max_stored_meshes = 100;
-  int64_t max_memory_bytes = int64_t{1} << 30;  // the memory budget (server/memory_budget.h)
-  int admission_threads = 1;                    // server/admission_pool.h
+  int64_t max_memory_bytes = int64_t{1} << 30;  // the memory budget (server/memory/memory_budget.h)
+  int admission_threads = 1;                    // server/admission/admission_pool.h
   int max_waiting_admissions = 64;
   absl::Duration shutdown_grace = absl::Seconds(25);
   TlsFiles tls;
   std::vector<PrincipalToken> auth_tokens;    // empty: no bearer-token check
-  std::vector<std::string> admin_principals;  // server/authenticator.h
-  // "memory" (server/in_memory_job_store.h) or a postgresql:// URI
-  // (server/postgres_job_store.h), shared by the replicas that use the same database.
+  std::vector<std::string> admin_principals;  // server/auth/authenticator.h
+  // "memory" (server/store/in_memory_job_store.h) or a postgresql:// URI
+  // (server/store/postgres/postgres_job_store.h), shared by the replicas that use the same database.
   std::string job_store = "memory";
   absl::Duration job_lease = absl::Seconds(30);  // with PostgreSQL: a claimed job's lease
   // With PostgreSQL: the longest one database operation may take.

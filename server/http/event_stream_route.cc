@@ -16,7 +16,7 @@
 #include "server/http/http_status.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
-#include "server/resource_names.h"
+#include "server/model/resource_names.h"
 
 namespace ispq::server::http {
 namespace {

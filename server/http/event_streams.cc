@@ -7,7 +7,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/time.h"
-#include "server/retry_hint.h"
+#include "server/jobs/retry_hint.h"
 
 namespace ispq::server::http {
 namespace {

@@ -14,7 +14,7 @@
 #include "absl/status/statusor.h"
 #include "absl/synchronization/mutex.h"
 #include "server/http/job_event_feed.h"
-#include "server/job.h"
+#include "server/model/job.h"
 
 namespace ispq::server::http {
 

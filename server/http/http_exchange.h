@@ -3,17 +3,17 @@
 // tokens and principals as gRPC: `Authorization: Bearer <token>`, or `access_token=<token>` in
 // the query for the browser's EventSource, which cannot set headers), and answers as protobuf
 // JSON or as a mapped error (server/http/http_status.h). A JSON answer is accounted in the memory
-// budget as a response until it has been sent, as gRPC answers are (server/unary_call.h).
+// budget as a response until it has been sent, as gRPC answers are (server/grpc/unary_call.h).
 #ifndef ISPQ_SERVER_HTTP_HTTP_EXCHANGE_H_
 #define ISPQ_SERVER_HTTP_HTTP_EXCHANGE_H_
 
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "google/protobuf/message.h"
-#include "server/authenticator.h"
+#include "server/admission/memory_admission.h"
+#include "server/auth/authenticator.h"
+#include "server/auth/principal.h"
 #include "server/http/http_message.h"
-#include "server/memory_admission.h"
-#include "server/principal.h"
 
 namespace ispq::server::http {
 

@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "absl/strings/string_view.h"
-#include "server/memory_budget.h"
-#include "server/principal.h"
+#include "server/auth/principal.h"
+#include "server/memory/memory_budget.h"
 
 namespace ispq::server::http {
 

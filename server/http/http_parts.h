@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "absl/time/time.h"
-#include "server/authenticator.h"
-#include "server/memory_admission.h"
-#include "server/quantizer_service.h"
-#include "server/server_metrics.h"
+#include "server/admission/memory_admission.h"
+#include "server/auth/authenticator.h"
+#include "server/grpc/quantizer_service.h"
+#include "server/metrics/server_metrics.h"
 
 namespace ispq::server::http {
 

@@ -7,7 +7,7 @@
 //
 // Plaintext only: it is meant for probes, metrics scrapers and a web view on a trusted network
 // or behind a TLS-terminating proxy. Where gRPC names principals by client certificate and no
-// tokens are configured, the job routes answer 401 (server/authenticator.h).
+// tokens are configured, the job routes answer 401 (server/auth/authenticator.h).
 //
 // Bounded before it trusts anything. It runs on GNU libmicrohttpd rather than cpp-httplib, whose
 // Debian build (0.11) inflates gzip and deflate bodies whole before any handler or authentication

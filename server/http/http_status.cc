@@ -12,7 +12,7 @@
 #include "absl/time/time.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
-#include "server/retry_hint.h"
+#include "server/jobs/retry_hint.h"
 
 namespace ispq::server::http {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // A job's events for a server-sent-event stream (server/http/event_stream_route.h): the
-// counterpart of server/job_event_stream.h for a stream that no thread waits on. The stream's
+// counterpart of server/grpc/job_event_stream.h for a stream that no thread waits on. The stream's
 // writer reads the job's log exactly as a gRPC stream does (Job::NextForStream: the same events,
 // numbered the same way, compacted the same way for a slow reader); when it has read everything
 // there is, it parks (suspends its connection), and the feed, a JobWatcher, resumes it when the
@@ -15,7 +15,7 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/functional/function_ref.h"
 #include "absl/synchronization/mutex.h"
-#include "server/job.h"
+#include "server/model/job.h"
 
 namespace ispq::server::http {
 

@@ -11,12 +11,12 @@
 #include "absl/time/time.h"
 #include "grpcpp/support/byte_buffer.h"
 #include "grpcpp/support/slice.h"
+#include "server/grpc/job_submission.h"
 #include "server/http/http_exchange.h"
 #include "server/http/json_guard.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
-#include "server/job_submission.h"
-#include "server/resource_names.h"
+#include "server/model/resource_names.h"
 
 namespace ispq::server::http {
 namespace {

@@ -11,7 +11,7 @@
 #include "absl/status/status.h"
 #include "server/http/http_message.h"
 #include "server/http/suspensions.h"
-#include "server/memory_budget.h"
+#include "server/memory/memory_budget.h"
 
 struct MHD_Connection;
 

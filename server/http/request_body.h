@@ -13,8 +13,8 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/string_view.h"
-#include "server/memory_admission.h"
-#include "server/memory_budget.h"
+#include "server/admission/memory_admission.h"
+#include "server/memory/memory_budget.h"
 
 namespace ispq::server::http {
 

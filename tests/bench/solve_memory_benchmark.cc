@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-// The memory a solve needs, against the server's estimate of it (server/job_memory.h): quantizes
+// The memory a solve needs, against the server's estimate of it (server/memory/job_memory.h): quantizes
 // T-mesh files at some levels with either method, in-process, and prints one TSV row per run:
 //
 //   ispq_solve_memory_bench [--real] [--meshes A.tmesh.json,B.pb] [--levels 5,25,100 | --scaling S]
@@ -21,7 +21,7 @@
 // those of its lower bound, and a fingerprint of q, equal across builds that found the same
 // answer (a change meant to save memory must change no answer).
 //
-// server/job_memory.h was calibrated with (D=tests/data/tmesh/hex-me):
+// server/memory/job_memory.h was calibrated with (D=tests/data/tmesh/hex-me):
 //   --real --rss
 //   --meshes $D/s01c_cube.tmesh.json --copies 1000 (and 8000) --levels 25 --rss
 //   --meshes $D/{s07c_notch,s01b_cube,n09c_pyramid,s13u_cube_rounded_2}.tmesh.json --copies 1000
@@ -30,7 +30,7 @@
 //   --meshes of ispq_make_large_tmesh --family single|assembly50|assembly16 --arcs 30000, and
 //            single at 100000 arcs, --rss; assembly16 at 100000 arcs at level 5
 //
-// The observer plays the server's part (server/progress_publisher.h): it asks for q at every
+// The observer plays the server's part (server/jobs/progress_publisher.h): it asks for q at every
 // event and keeps the latest as 32-bit integers, as a job keeps its latest intermediate result.
 #include <malloc.h>
 
@@ -51,7 +51,7 @@
 #include "core/proto/mesh_stats_proto.h"
 #include "core/quantizer.h"
 #include "core/resolution_levels.h"
-#include "server/job_memory.h"
+#include "server/memory/job_memory.h"
 #include "tests/support/heap_peak.h"
 #include "tests/support/own_memory.h"
 #include "tests/support/test_data.h"
@@ -165,7 +165,7 @@ std::string Name(const std::string& file) {
 
 void MeasureMesh(const std::string& file) {
   const TMesh mesh = LoadMesh(file);
-  // As admission computes them (server/mesh_admission.cc).
+  // As admission computes them (server/model/mesh_admission.cc).
   const v1::MeshStats stats = MeshStatsToProto(ComputeMeshStats(mesh));
   for (absl::string_view method_name : absl::StrSplit(absl::GetFlag(FLAGS_methods), ',')) {
     const bool exact = method_name == "exact";

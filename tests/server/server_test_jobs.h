@@ -7,7 +7,7 @@
 #include <string>
 
 #include "absl/time/time.h"
-#include "server/job.h"
+#include "server/model/job.h"
 
 namespace ispq::server {
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The peak of live heap bytes while a piece of code runs, counted by malloc itself: for the tests
-// and the benchmark that hold the server's memory estimates (server/job_memory.h) to what a solve
+// and the benchmark that hold the server's memory estimates (server/memory/job_memory.h) to what a solve
 // really allocates.
 //
 // Linking the library `ispq_heap_peak` into an executable replaces glibc's malloc family in that
