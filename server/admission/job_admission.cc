@@ -7,7 +7,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "core/proto/quantization_proto.h"
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 #include "server/model/mesh_admission.h"
 #include "server/model/resource_names.h"
 

@@ -14,7 +14,7 @@
 #include "server/grpc/grpc_status.h"
 #include "server/jobs/retry_hint.h"
 #include "server/logging/log_value.h"
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 #include "server/model/mesh_admission.h"
 #include "server/model/resource_names.h"
 #include "spdlog/spdlog.h"

@@ -3,13 +3,13 @@
 // behalf of clients, by kind, so that admission can refuse work that would not fit instead of
 // letting the process grow until the kernel kills it with every job on it.
 //
-// What is accounted is an estimate of the heap each thing occupies (see server/memory/job_memory.h for
-// the estimates); the process also has a fixed base (code, gRPC, thread stacks) that the budget
-// does not include. A MemoryReservation is the claim of one holder: it releases its bytes when
-// destroyed, so accounting follows ownership (a mesh shared by a stored entry and a running job
-// is released when the last of them lets go). TryReserve refuses what does not fit; ForceReserve
-// records memory that exists already or must be kept (a received request, a finished job's
-// result), which later admissions then see as used. Thread-safe.
+// What is accounted is an estimate of the heap each thing occupies (see
+// server/memory/memory_estimates.h for the estimates); the process also has a fixed base (code,
+// gRPC, thread stacks) that the budget does not include. A MemoryReservation is the claim of one
+// holder: it releases its bytes when destroyed, so accounting follows ownership (a mesh shared by a
+// stored entry and a running job is released when the last of them lets go). TryReserve refuses
+// what does not fit; ForceReserve records memory that exists already or must be kept (a received
+// request, a finished job's result), which later admissions then see as used. Thread-safe.
 #ifndef ISPQ_SERVER_MEMORY_BUDGET_H_
 #define ISPQ_SERVER_MEMORY_BUDGET_H_
 

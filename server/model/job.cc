@@ -5,7 +5,7 @@
 
 #include "core/invariant.h"
 #include "google/protobuf/util/time_util.h"
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 #include "server/model/resource_names.h"
 
 namespace ispq::server {

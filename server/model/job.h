@@ -10,12 +10,12 @@
 // Memory: a job lets go of its mesh and its solver reservation when it ends (only the worker
 // reads the mesh, and only while it runs), so the finished jobs the store retains hold their
 // result and a few events, no mesh; with a memory budget, the job then accounts for what it
-// retains (server/memory/job_memory.h) until it is destroyed.
+// retains (server/memory/memory_estimates.h) until it is destroyed.
 //
-// With a durable store (server/store/postgres/postgres_job_store.h) a job object is one of three views of a
-// stored job: the one its replica created (New), which the store records through its event sink;
-// a job a replica claimed from the store and runs (Resume), recorded the same way; or a mirror
-// (Mirror) that answers lookups and feeds watchers on any replica and changes only by
+// With a durable store (server/store/postgres/postgres_job_store.h) a job object is one of three
+// views of a stored job: the one its replica created (New), which the store records through its
+// event sink; a job a replica claimed from the store and runs (Resume), recorded the same way; or a
+// mirror (Mirror) that answers lookups and feeds watchers on any replica and changes only by
 // ApplyStored, with what the store says.
 #ifndef ISPQ_SERVER_JOB_H_
 #define ISPQ_SERVER_JOB_H_
@@ -102,9 +102,9 @@ class Job {
   // out of the queue, or the worker that popped it) ends it. Idempotent; no effect once done.
   void RequestCancel();
   // As RequestCancel, and the job then ends with the error `status` whatever its run returns:
-  // this replica lost the job's lease in a shared store (server/store/postgres/postgres_job_recorder.h), so
-  // what the run would report did not happen as far as the store is concerned. The first
-  // status wins; no effect once done.
+  // this replica lost the job's lease in a shared store
+  // (server/store/postgres/postgres_job_recorder.h), so what the run would report did not happen as
+  // far as the store is concerned. The first status wins; no effect once done.
   void Abandon(const absl::Status& status);
 
   v1::JobState state() const;

@@ -35,11 +35,11 @@ struct JobSpec {
   absl::Duration intermediate_interval = absl::ZeroDuration();  // zero: none
   std::string owner;       // the principal that submitted the job
   std::string request_id;  // AIP-155, as submitted (may be empty)
-  // server/admission/request_fingerprint.h of the request without its id, when request_id is set: a shared
-  // store compares it with that of a retry reaching another replica.
+  // server/admission/request_fingerprint.h of the request without its id, when request_id is set: a
+  // shared store compares it with that of a retry reaching another replica.
   std::string request_fingerprint;
-  // The solver's working memory (server/memory/job_memory.h), held until the job ends; the mesh's own
-  // reservation travels with the mesh.
+  // The solver's working memory (server/memory/memory_estimates.h), held until the job ends; the
+  // mesh's own reservation travels with the mesh.
   MemoryReservation memory;
 };
 

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// The memory a solve needs, against the server's estimate of it (server/memory/job_memory.h): quantizes
-// T-mesh files at some levels with either method, in-process, and prints one TSV row per run:
+// The memory a solve needs, against the server's estimate of it (server/memory/memory_estimates.h):
+// quantizes T-mesh files at some levels with either method, in-process, and prints one TSV row per
+// run:
 //
 //   ispq_solve_memory_bench [--real] [--meshes A.tmesh.json,B.pb] [--levels 5,25,100 | --scaling S]
 //                           [--methods isp,exact] [--copies K] [--decompose=false]
@@ -21,7 +22,7 @@
 // those of its lower bound, and a fingerprint of q, equal across builds that found the same
 // answer (a change meant to save memory must change no answer).
 //
-// server/memory/job_memory.h was calibrated with (D=tests/data/tmesh/hex-me):
+// server/memory/memory_estimates.h was calibrated with (D=tests/data/tmesh/hex-me):
 //   --real --rss
 //   --meshes $D/s01c_cube.tmesh.json --copies 1000 (and 8000) --levels 25 --rss
 //   --meshes $D/{s07c_notch,s01b_cube,n09c_pyramid,s13u_cube_rounded_2}.tmesh.json --copies 1000
@@ -51,7 +52,7 @@
 #include "core/proto/mesh_stats_proto.h"
 #include "core/quantizer.h"
 #include "core/resolution_levels.h"
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 #include "tests/support/heap_peak.h"
 #include "tests/support/own_memory.h"
 #include "tests/support/test_data.h"

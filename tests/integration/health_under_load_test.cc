@@ -61,8 +61,8 @@ constexpr absl::Duration kProbeTimeout = absl::Milliseconds(100);
 
 TEST(HealthUnderLoadTest, LivenessAnswersWithin100MsDuringABurstOfLargeRequests) {
   // Large enough a budget that every request is parsed and validated in full before it is
-  // refused (each, in exact mode, would need 4.3 GiB of solver memory by server/memory/job_memory.h):
-  // all the work, no jobs.
+  // refused (each, in exact mode, would need 4.3 GiB of solver memory by
+  // server/memory/memory_estimates.h): all the work, no jobs.
   std::unique_ptr<ServerProcess> server =
       StartServerOrFail({"--workers=1", "--max_memory_bytes=1GiB"});
   ASSERT_NE(server, nullptr);
@@ -164,8 +164,8 @@ TEST(HealthUnderLoadTest, ReadinessFollowsTheMemoryBudget) {
   ASSERT_TRUE(BecomesStatus(client, "readiness", client::ServingStatus::kServing));
   // An exact job on 40 femur shells (12k arcs): the budget can take it with its request while it
   // is admitted (485 MiB), and once admitted it leaves less than an eighth (463 MiB held; see
-  // server/memory/job_memory.h). Exact mode, whose estimate per arc is the largest: an ISP job whose
-  // request still fit would hold too little to cross the line.
+  // server/memory/memory_estimates.h). Exact mode, whose estimate per arc is the largest: an ISP
+  // job whose request still fit would hold too little to cross the line.
   const v1::TMesh mesh = FemurCopies(40);
   v1::QuantizeRequest request = RequestFor(mesh, 100);
   request.mutable_options()->set_method(v1::METHOD_EXACT);

@@ -179,9 +179,9 @@ TEST_F(MemoryBudgetTest, StoredMeshesAreEvictedLeastRecentlyUsedFirst) {
 TEST_F(MemoryBudgetTest, LargeRequestsAreRefusedInsteadOfQueued) {
   ASSERT_NO_FATAL_FAILURE(StartServer({"--workers=1"}));
   // 13 requests of about 28 MB at once (400 femur shells, 118k arcs): each would need more than
-  // the whole budget to solve (server/memory/job_memory.h: 720 MiB of solver memory, 53 MiB of mesh).
-  // Once failed at the client's 60 s deadline while other tests ran: now every call waits for
-  // its answer, and the test checks the answers and the server's counters.
+  // the whole budget to solve (server/memory/memory_estimates.h: 720 MiB of solver memory, 53 MiB
+  // of mesh). Once failed at the client's 60 s deadline while other tests ran: now every call waits
+  // for its answer, and the test checks the answers and the server's counters.
   constexpr int kRequests = 13;
   const v1::QuantizeRequest request = RequestFor(LargeMesh(), 100);
   std::vector<absl::Status> results(kRequests);
@@ -214,8 +214,9 @@ TEST_F(MemoryBudgetTest, LargeRequestsAreRefusedInsteadOfQueued) {
 
 TEST_F(MemoryBudgetTest, QueuedJobsFillTheBudgetAndThenGetARetryHint) {
   ASSERT_NO_FATAL_FAILURE(StartServer({"--workers=1"}));
-  // About 18k arcs: a job the budget holds four of at once (server/memory/job_memory.h: 116 MiB with its
-  // mesh, and 32 MiB more for its request while it is admitted), slow enough to stay queued.
+  // About 18k arcs: a job the budget holds four of at once (server/memory/memory_estimates.h: 116
+  // MiB with its mesh, and 32 MiB more for its request while it is admitted), slow enough to stay
+  // queued.
   const v1::TMesh mesh = FemurCopies(60);
   const v1::QuantizeRequest request = RequestFor(mesh, 100);
   std::vector<std::string> accepted;
@@ -266,8 +267,8 @@ TEST_F(MemoryBudgetTest, ListJobsPagesStayWithinWhatClientsAcceptOverManyLargeRe
   ASSERT_NO_FATAL_FAILURE(StartServer());
   // 36k arcs at a fine scaling (two bytes per q, below the limit on hexes): about 72 KB of q per
   // result, so that 110 results make more than one client message (4 MiB) in total. A job's
-  // solver memory (server/memory/job_memory.h: 300 MB for 2250 subproblems) is more than half the
-  // budget, so that one job runs at a time and the next is refused with a hint rather than let
+  // solver memory (server/memory/memory_estimates.h: 300 MB for 2250 subproblems) is more than half
+  // the budget, so that one job runs at a time and the next is refused with a hint rather than let
   // in by evicting finished jobs whose results the test lists.
   const v1::TMesh mesh = DisjointCopies(RealMeshNamed("s01b_cube"), 250);
   const absl::StatusOr<v1::Mesh> stored = client_->CreateMesh(mesh);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // The peak of live heap bytes while a piece of code runs, counted by malloc itself: for the tests
-// and the benchmark that hold the server's memory estimates (server/memory/job_memory.h) to what a solve
-// really allocates.
+// and the benchmark that hold the server's memory estimates (server/memory/memory_estimates.h) to
+// what a solve really allocates.
 //
 // Linking the library `ispq_heap_peak` into an executable replaces glibc's malloc family in that
 // executable (glibc supports this: the replacements forward to __libc_malloc and friends), so

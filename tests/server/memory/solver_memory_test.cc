@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The server's estimate of a solve's working memory (server/memory/job_memory.h) against the heap the
-// solve really takes, counted by the replacement malloc of tests/support/heap_peak.h (which is
-// why this test is an executable of its own). On real meshes, on many disjoint copies of one
-// (as many independent subproblems, each with an LP of its own, or one LP over all of them) and
+// The server's estimate of a solve's working memory (server/memory/memory_estimates.h) against the
+// heap the solve really takes, counted by the replacement malloc of tests/support/heap_peak.h
+// (which is why this test is an executable of its own). On real meshes, on many disjoint copies of
+// one (as many independent subproblems, each with an LP of its own, or one LP over all of them) and
 // on generated parts of about 20k arcs, the estimate is at least the measured peak, so that a
 // budget that admits a job can also run it, and at most twice it, so that the budget is not
 // spent on memory no job uses. Each solve runs as the server runs it: options resolved from a
@@ -18,7 +18,7 @@
 #include "core/proto/quantization_proto.h"
 #include "core/quantizer.h"
 #include "gtest/gtest.h"
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 #include "tests/bench/large/large_tmesh_generator.h"
 #include "tests/support/heap_peak.h"
 #include "tests/support/test_data.h"
@@ -29,7 +29,8 @@ namespace {
 
 using ::ispq::testing::HeapPeakScope;
 
-// Keeps the latest q as a job keeps its latest intermediate result (server/jobs/progress_publisher.h).
+// Keeps the latest q as a job keeps its latest intermediate result
+// (server/jobs/progress_publisher.h).
 class LatestQuantization : public ProgressObserver {
  public:
   void OnProgress(const ProgressEvent& event) override {
@@ -116,7 +117,7 @@ TEST(SolverMemoryTest, ManyDisjointCopies) {
 // Large parts, where the estimate is per arc and per bundle: a single part of 30k arcs (1.2-1.3
 // KB per arc measured) and a feature-dense assembly of 20k arcs (1.7-2.1 KB per arc). A sparser
 // single part of 20k arcs (0.95 KB per arc at levels 5 and 25) is estimated at 2.1 times its peak
-// (server/memory/job_memory.h), so it is not the one checked here.
+// (server/memory/memory_estimates.h), so it is not the one checked here.
 TEST(SolverMemoryTest, GeneratedParts) {
   const TMesh single = Generated(bench::LargeFamily::kSingleSubproblem, 30000);
   for (int level : {5, 25, 100}) ExpectEstimateHoldsThePeak(single, level);

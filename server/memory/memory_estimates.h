@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The memory budget's estimates (server/memory/memory_budget.h) of what meshes, jobs and results hold.
+// The memory budget's estimates (server/memory/memory_budget.h) of what meshes, jobs and results
+// hold.
 //
 // A validated core TMesh takes 1.2-1.7 times the size of its binary protobuf; a retained result
 // is its q (4 bytes per arc) and a few small messages.

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-#include "server/memory/job_memory.h"
+#include "server/memory/memory_estimates.h"
 
 #include <algorithm>
 
