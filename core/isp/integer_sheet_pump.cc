@@ -13,11 +13,11 @@
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/greedy_queue.h"
 #include "core/isp/layered_start.h"
-#include "core/run_clock.h"
 #include "core/isp/separation_rows.h"
 #include "core/isp/sheet_coverage.h"
 #include "core/isp/sheet_step.h"
 #include "core/isp/subproblem_set.h"
+#include "core/run_clock.h"
 #include "core/separation_check.h"
 #include "core/status_macros.h"
 #include "core/subproblems.h"
@@ -480,9 +480,11 @@ int64_t IntegerSheetPump::SearchRound(std::vector<int32_t>* new_rows) {
   // The rows join as the search finds them; once every subproblem has its rows for this round
   // and one more was left over, the rest of the search could change nothing and is skipped.
   SeparationRows::Added added;
+  const NewRowCap new_row_cap{.rows = tuning_.max_new_rows_per_search,
+                              .bundles_per_extra_row = tuning_.bundles_per_extra_new_row};
   const int64_t subproblems = subproblems_.count();
   const int64_t found = FindViolations([&](const SeparationViolation& v) {
-    rows_.AddViolation(v, tuning_.max_new_rows_per_search, subproblems_, new_rows, &added);
+    rows_.AddViolation(v, new_row_cap, subproblems_, new_rows, &added);
     return !added.Done(subproblems);
   });
   ++stats_.separation_rounds;

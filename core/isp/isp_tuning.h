@@ -90,6 +90,15 @@ struct IspTuning {
   // the whole mesh, 160 disjoint copies of s07c_notch took 884 rounds and 11.1 s instead of 6
   // rounds and 0.95 s (the shared set: 495 of 496 q identical, the other one no worse).
   int max_new_rows_per_search = 2;
+  // ... or one per this many bundles of the subproblem, if that is more (0: never more). A large
+  // part's search reports violations all over it, far apart, that no one sheet separates
+  // together; two per round made a 100k-arc part take 40 rounds, each a search and a separating
+  // update. On the 100k/300k-arc benchmark parts (tests/bench/large) with 4000, against 2 alone:
+  // the same q in all six runs measured, rounds 40 -> 21, 30 -> 16, 27 -> 14, 5 -> 3, 28 -> 6,
+  // CPU -11% to -24% (single-part family unchanged: its subproblems stay under 8000 bundles). With
+  // 1000, one run (assembly16, 100k arcs, level 100) ended 1.7% worse and took 1.6x the CPU. Real
+  // meshes have far fewer bundles per subproblem: the shared instances are unchanged.
+  int bundles_per_extra_new_row = 4000;
   // On meshes of at least this many arcs, the run first traces the layered start
   // (core/isp/layered_start.h): a q >= 1 on every arc, reported at once (phase LAYERS) if the
   // search finds it separating, and the result if the run finds no better valid q (a run stopped

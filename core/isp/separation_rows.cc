@@ -102,17 +102,17 @@ std::vector<int32_t> SeparationRows::ActivateSimpleRows(SubproblemSet& subproble
 }
 
 SeparationRows::Added SeparationRows::AddViolations(std::span<const SeparationViolation> violations,
-                                                    int64_t max_new_rows,
+                                                    const NewRowCap& cap,
                                                     SubproblemSet& subproblems,
                                                     std::vector<int32_t>* to_attach) {
   Added added;
   for (const SeparationViolation& v : violations) {
-    AddViolation(v, max_new_rows, subproblems, to_attach, &added);
+    AddViolation(v, cap, subproblems, to_attach, &added);
   }
   return added;
 }
 
-void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_rows,
+void SeparationRows::AddViolation(const SeparationViolation& v, const NewRowCap& cap,
                                   SubproblemSet& subproblems, std::vector<int32_t>* to_attach,
                                   Added* added) {
   const BundleRowPair pair = ToBundleRowPair(bundles_, v.default_row, v.failsafe_row);
@@ -120,7 +120,9 @@ void SeparationRows::AddViolation(const SeparationViolation& v, int64_t max_new_
   if (failsafe_terms.empty()) return;  // cannot happen for +1 rows with terms
   // The cap holds per subproblem (of the row's first bundle): independent parts of a mesh each
   // get their rows in the same round, or a mesh of many parts would need a round per row pair.
-  int64_t& activated = added->activated_in[subproblems.IdOf(failsafe_terms.front().var)];
+  const int32_t id = subproblems.IdOf(failsafe_terms.front().var);
+  const int64_t max_new_rows = cap.For(subproblems.at(id));
+  int64_t& activated = added->activated_in[id];
   if (activated >= max_new_rows) {
     added->dropped = true;
     return;

@@ -12,6 +12,7 @@
 #ifndef ISPQ_CORE_ISP_SEPARATION_ROWS_H_
 #define ISPQ_CORE_ISP_SEPARATION_ROWS_H_
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -28,6 +29,19 @@
 #include "core/tmesh.h"
 
 namespace ispq {
+
+// How many new rows a subproblem takes from one search round: `rows`, and one more per
+// `bundles_per_extra_row` of its bundles (0: none).
+struct NewRowCap {
+  int64_t rows = 2;
+  int64_t bundles_per_extra_row = 0;
+
+  int64_t For(const SheetSubproblem& subproblem) const {
+    if (bundles_per_extra_row <= 0) return rows;
+    return std::max<int64_t>(
+        rows, static_cast<int64_t>(subproblem.bundles().size()) / bundles_per_extra_row);
+  }
+};
 
 class SeparationRows {
  public:
@@ -53,8 +67,8 @@ class SeparationRows {
   // The rows of one search round so far.
   struct Added {
     int64_t activated = 0;  // rows that became active
-    bool dropped = false;   // violations were left over once max_new_rows rows were active
-    // Rows activated per subproblem, and how many subproblems reached max_new_rows.
+    bool dropped = false;   // violations were left over once a subproblem's cap was reached
+    // Rows activated per subproblem, and how many subproblems reached their cap.
     absl::flat_hash_map<int32_t, int64_t> activated_in;
     int64_t full_subproblems = 0;
     // Whether every one of `count` subproblems is full and a violation was already dropped: no
@@ -62,13 +76,13 @@ class SeparationRows {
     bool Done(int64_t count) const { return dropped && full_subproblems == count; }
   };
   // Adds the rows of a search round in their order, one violation per call, each as a default row
-  // with its failsafe twin, until `max_new_rows` rows became active in a subproblem; that
+  // with its failsafe twin, until `cap` rows became active in a subproblem; that
   // subproblem's later violations are dropped (a later search finds them again if they are still
   // violated). Appends the rows to attach to `to_attach`.
-  void AddViolation(const SeparationViolation& v, int64_t max_new_rows, SubproblemSet& subproblems,
+  void AddViolation(const SeparationViolation& v, const NewRowCap& cap, SubproblemSet& subproblems,
                     std::vector<int32_t>* to_attach, Added* added);
   // AddViolation for every violation of a round.
-  Added AddViolations(std::span<const SeparationViolation> violations, int64_t max_new_rows,
+  Added AddViolations(std::span<const SeparationViolation> violations, const NewRowCap& cap,
                       SubproblemSet& subproblems, std::vector<int32_t>* to_attach);
 
   // A default row of `subproblem` and the failsafe twin standing in for it.

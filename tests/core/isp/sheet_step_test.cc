@@ -59,7 +59,7 @@ class SheetStepTest : public ::testing::Test {
     v.default_row = {{{arc, coef}}, rhs};
     v.failsafe_row = {{{arc, 1}}, 1};
     std::vector<int32_t> attach;
-    rows_.AddViolations({&v, 1}, 1, set_, &attach);
+    rows_.AddViolations({&v, 1}, {.rows = 1}, set_, &attach);
     set_.Attach(attach);
   }
 

@@ -91,7 +91,7 @@ TEST_F(SubproblemSetTest, ARowCouplingTwoSubproblemsMergesThem) {
                                  {grid_.ArcBetween({1, 0, 0}, {2, 0, 0}), -1}};
   violation.failsafe_row.terms = {{grid_.ArcBetween({0, 0, 0}, {1, 0, 0}), 1}};
   std::vector<int32_t> attach;
-  EXPECT_EQ(rows_.AddViolations({&violation, 1}, 1, set_, &attach).activated, 1);
+  EXPECT_EQ(rows_.AddViolations({&violation, 1}, {.rows = 1}, set_, &attach).activated, 1);
   // The default row is active and new; its failsafe twin is stored, inactive.
   ASSERT_EQ(attach.size(), 1u);
   EXPECT_EQ(rows_.store().size(), 6);
@@ -100,7 +100,7 @@ TEST_F(SubproblemSetTest, ARowCouplingTwoSubproblemsMergesThem) {
   EXPECT_EQ(&set_.Of(u1), &set_.Of(u2));
   // Found again, the row is neither added nor activated twice.
   attach.clear();
-  EXPECT_EQ(rows_.AddViolations({&violation, 1}, 1, set_, &attach).activated, 0);
+  EXPECT_EQ(rows_.AddViolations({&violation, 1}, {.rows = 1}, set_, &attach).activated, 0);
   EXPECT_TRUE(attach.empty());
 }
 
@@ -110,7 +110,7 @@ TEST_F(SubproblemSetTest, FailsafeFormsStandInForDefaultRowsAndGoBack) {
                                  {grid_.ArcBetween({1, 0, 0}, {2, 0, 0}), -1}};
   violation.failsafe_row.terms = {{grid_.ArcBetween({0, 0, 0}, {1, 0, 0}), 1}};
   std::vector<int32_t> attach;
-  rows_.AddViolations({&violation, 1}, 1, set_, &attach);
+  rows_.AddViolations({&violation, 1}, {.rows = 1}, set_, &attach);
   set_.Attach(attach);
   const int32_t default_row = attach[0];
   const int32_t failsafe_row = rows_.store().size() - 1;
