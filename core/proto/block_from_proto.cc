@@ -8,6 +8,7 @@
 
 #include "core/direction.h"
 #include "core/invalid_argument.h"
+#include "core/proto/repeated_field_span.h"
 #include "core/status_macros.h"
 
 namespace ispq {

@@ -8,7 +8,7 @@
 #define ISPQ_CORE_PROTO_BLOCK_FROM_PROTO_H_
 
 #include "absl/status/statusor.h"
-#include "core/proto/message_views.h"
+#include "core/proto/id_ranges.h"
 #include "core/tmesh_input.h"
 #include "ispq/v1/tmesh.pb.h"
 

@@ -1,16 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
-// What the T-mesh decoders read from a message besides its fields: the ids its element counts
-// make valid, and its repeated fields as spans. The decoders check every id against an IdRanges
-// before handing it on, and hand lists on as views (the builder copies what it keeps).
-#ifndef ISPQ_CORE_PROTO_MESSAGE_VIEWS_H_
-#define ISPQ_CORE_PROTO_MESSAGE_VIEWS_H_
+// The element ids a T-mesh message's counts make valid. The decoders (core/proto/) check every
+// id they read against these ranges before handing it on, so that nothing past them indexes out
+// of bounds on a hostile message.
+#ifndef ISPQ_CORE_PROTO_ID_RANGES_H_
+#define ISPQ_CORE_PROTO_ID_RANGES_H_
 
-#include <cstddef>
 #include <cstdint>
-#include <span>
 
 #include "core/tmesh_input.h"
-#include "google/protobuf/repeated_field.h"
 
 namespace ispq {
 
@@ -31,12 +28,6 @@ class IdRanges {
   TMeshSizes sizes_;
 };
 
-// A repeated scalar field as a span; valid while the message is.
-template <typename T>
-std::span<const T> View(const google::protobuf::RepeatedField<T>& field) {
-  return {field.data(), static_cast<size_t>(field.size())};
-}
-
 }  // namespace ispq
 
-#endif  // ISPQ_CORE_PROTO_MESSAGE_VIEWS_H_
+#endif  // ISPQ_CORE_PROTO_ID_RANGES_H_
