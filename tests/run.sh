@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: Apache-2.0
 # The whole test suite, from a fresh checkout: installs what is missing, builds (Release) and
-# runs every test with CTest, then runs the core unit tests once more under AddressSanitizer and
-# UndefinedBehaviorSanitizer, and fuzzes the request parser and loader for a bounded time.
+# runs every test with CTest, checks the lock annotations with clang's thread-safety analysis,
+# runs the core unit tests once more under AddressSanitizer and UndefinedBehaviorSanitizer, and
+# fuzzes the request parser and loader for a bounded time.
 # `.ci/run` calls exactly this. It needs nothing beside the checkout: the tests' data is in
 # tests/data, and the Standalone test (tests/deploy/check_standalone.py) fails if anything in
 # the tree refers to a path outside the checkout.
@@ -16,6 +17,9 @@ JOBS=2  # the machines have 2 cores
 cmake --preset release >/dev/null
 cmake --build --preset release -j "$JOBS"
 ctest --preset release -j "$JOBS" --timeout 900
+
+echo "== clang thread-safety analysis of the server, client and threaded tests (syntax only) =="
+python3 tests/static/check_thread_safety.py --build build/release --jobs "$JOBS"
 
 echo "== core unit tests under ASan/UBSan =="
 cmake --preset asan >/dev/null
