@@ -29,8 +29,8 @@ cmake --build --preset asan -j "$JOBS" --target ispq_unit_tests
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   build/asan/tests/unit/ispq_unit_tests --gtest_brief=1
 
-# Cold: ~700 s of CPU to build (231 steps; 10 min of wall on a shared 2-core machine), then ~70 s
-# of tests; with a warm ccache the build takes ~20 s.
+# Cold: ~700 s of CPU to build (231 steps; 10 min of wall on a shared 2-core machine), then
+# ~100 s of tests; with a warm ccache the build takes ~20 s.
 echo "== server unit tests and job-engine/streaming/store integration tests under TSan =="
 bash tests/tsan/run_tsan.sh
 
