@@ -11,8 +11,8 @@
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "server/admission/raw_request.h"
 #include "server/auth/principal.h"
-#include "server/grpc/request_intake.h"
 #include "server/model/job.h"
 
 namespace ispq::server {

@@ -11,6 +11,7 @@
 #include "absl/time/clock.h"
 #include "google/protobuf/util/time_util.h"
 #include "server/admission/request_fingerprint.h"
+#include "server/grpc/call_principal.h"
 #include "server/grpc/grpc_status.h"
 #include "server/jobs/retry_hint.h"
 #include "server/logging/log_value.h"
@@ -132,7 +133,7 @@ absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
 grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
     grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
   std::shared_ptr<JobEventStream> stream = JobEventStream::Create(&scheduler_, &memory_.budget());
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, *context);
   if (!principal.ok()) {
     stream->Reject(ToGrpcStatus(principal.status()));
     return stream.get();
@@ -207,7 +208,7 @@ void QuantizerService::Submit(JobSubmission submission) {
 
 std::optional<QuantizerService::AcceptedRequest> QuantizerService::Accept(
     UnaryCall& call, const grpc::ByteBuffer* request, int64_t max_bytes) {
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(call.context());
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, call.context());
   if (!principal.ok()) {
     call.Fail(principal.status());
     return std::nullopt;
@@ -400,7 +401,7 @@ grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::WatchJob(
 
 absl::StatusOr<QuantizerService::WatchCall> QuantizerService::AcceptWatch(
     grpc::CallbackServerContext& context, const grpc::ByteBuffer* request) {
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(context);
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, context);
   if (!principal.ok()) return principal.status();
   absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
   if (!raw.ok()) return raw.status();

@@ -15,8 +15,8 @@
 #include "core/proto/quantization_proto.h"
 #include "core/quantization_validator.h"
 #include "gmock/gmock.h"
-#include "grpcpp/support/byte_buffer.h"
 #include "gtest/gtest.h"
+#include "server/admission/request_bytes.h"
 #include "server/store/mesh_store.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
@@ -57,10 +57,9 @@ class QuantizerServiceTest : public ::testing::Test {
   // Submits as `owner` and waits for the answer.
   JobSubmission::Outcome Submit(const v1::QuantizeRequest& request, const std::string& owner) {
     const std::string bytes = request.SerializeAsString();
-    grpc::Slice slice(bytes);
     JobSubmission submission;
     submission.principal = Principal{.name = owner};
-    submission.raw.bytes = grpc::ByteBuffer(&slice, 1);
+    submission.raw.bytes = std::make_unique<StringRequestBytes>(bytes);
     submission.raw.size = static_cast<int64_t>(bytes.size());
     submission.peer = "test";
     absl::Notification answered;
