@@ -11,12 +11,12 @@
 #include "absl/time/time.h"
 #include "server/admission/raw_request.h"
 #include "server/admission/request_bytes.h"
-#include "server/grpc/job_submission.h"
 #include "server/http/http_exchange.h"
 #include "server/http/json_guard.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
 #include "server/model/resource_names.h"
+#include "server/service/job_submission.h"
 
 namespace ispq::server::http {
 namespace {
