@@ -84,14 +84,13 @@ QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<Job
       authenticator_(AuthenticationConfigOf(config)),
       scheduler_(SchedulerConfigOf(config), metrics_, &budget_, std::move(jobs)),
       memory_(budget_, scheduler_, *meshes_, metrics_),
-      service_(ServiceParts{.scheduler = scheduler_,
-                            .meshes = *meshes_,
-                            .metrics = metrics_,
-                            .memory = memory_,
-                            .authenticator = authenticator_},
-               JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time},
-               AdmissionConfig{.threads = config.admission_threads,
-                               .max_waiting = config.max_waiting_admissions}) {
+      service_(
+          ServiceParts{
+              .scheduler = scheduler_, .meshes = *meshes_, .metrics = metrics_, .memory = memory_},
+          JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time},
+          AdmissionConfig{.threads = config.admission_threads,
+                          .max_waiting = config.max_waiting_admissions}),
+      grpc_service_(service_, authenticator_) {
   scheduler_.EnableClaiming(
       [this](const JobClaims::Claim& claim) { return service_.Readmit(claim); });
 }
@@ -117,7 +116,7 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(config.listen_address, *credentials, &server->port_);
-  builder.RegisterService(&server->service_);
+  builder.RegisterService(&server->grpc_service_);
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, kKeepaliveTimeMs);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, kKeepaliveTimeoutMs);

@@ -7,8 +7,8 @@
 //   * gRPC's callback API. RPC handlers run on gRPC's own threads and never block: lookups are
 //     answered there; requests that carry a mesh (Quantize, SubmitJob, CreateMesh) are parsed
 //     and validated there only when small, else on a small admission pool (--admission_threads,
-//     server/admission/admission_pool.h), so that a burst of large requests cannot occupy gRPC's threads
-//     and stall health checks. The streaming methods (Quantize, WatchJob) return a reactor
+//     server/admission/admission_pool.h), so that a burst of large requests cannot occupy gRPC's
+//     threads and stall health checks. The streaming methods (Quantize, WatchJob) return a reactor
 //     (JobEventStream) that writes one event at a time and is woken by the job when it has a new
 //     event and by gRPC when a write completes. A thousand watchers cost a thousand small
 //     objects, not a thousand threads.
@@ -28,21 +28,25 @@
 //     calls nothing).
 //
 // Memory: everything held for clients is accounted in one budget (--max_memory_bytes,
-// server/memory/memory_budget.h): requests while they are admitted, queued and running jobs' meshes and
-// solver memory, stored meshes, retained results and responses in flight. Admission refuses
-// what does not fit after evicting retained results and stored meshes (server/admission/memory_admission.h).
+// server/memory/memory_budget.h): requests while they are admitted, queued and running jobs' meshes
+// and solver memory, stored meshes, retained results and responses in flight. Admission refuses
+// what does not fit after evicting retained results and stored meshes
+// (server/admission/memory_admission.h).
 //
+// Transports: the service's operations are transport-neutral (server/service/job_service.h);
+// the gRPC service (server/grpc/quantizer_service.h) is an adapter over them, and so is the
 // HTTP side (--http_listen, server/http/http_server.h): a second listener on threads of its own
 // that calls the same service operations, so both transports share jobs, principals, limits
 // and the memory budget; its /healthz and /readyz report what the gRPC health service does.
 //
 // Ownership: QuantizerServer owns the metrics, the memory budget, the mesh store, the
 // authenticator, the scheduler (job store, queue, workers), the service (with the admission
-// pool and the request ids), the grpc::Server, the readiness monitor and the HTTP server; jobs are
-// shared between the scheduler and the streams watching them. Members are destroyed in reverse
-// order: the HTTP server (stopped in Shutdown already), the readiness monitor, the gRPC server (no
-// more calls), the service (drains the admission pool), then the scheduler (joins the workers), and
-// the budget last, after everything that holds reservations on it.
+// pool and the request ids), its gRPC adapter, the grpc::Server, the readiness monitor and the
+// HTTP server; jobs are shared between the scheduler and the streams watching them. Members are
+// destroyed in reverse order: the HTTP server (stopped in Shutdown already), the readiness
+// monitor, the gRPC server (no more calls), the gRPC adapter, the service (drains the admission
+// pool), then the scheduler (joins the workers), and the budget last, after everything that holds
+// reservations on it.
 //
 // Graceful shutdown (SIGTERM/SIGINT in server_main.cc, or Shutdown()): health turns
 // NOT_SERVING, new jobs are refused with UNAVAILABLE and queued ones end with UNAVAILABLE (they
@@ -66,6 +70,7 @@
 #include "server/metrics/server_metrics.h"
 #include "server/readiness_monitor.h"
 #include "server/server_config.h"
+#include "server/service/job_service.h"
 #include "server/store/job_store.h"
 #include "server/store/mesh_store.h"
 
@@ -104,7 +109,8 @@ class QuantizerServer {
   Authenticator authenticator_;
   JobScheduler scheduler_;
   MemoryAdmission memory_;
-  QuantizerService service_;
+  JobService service_;
+  QuantizerService grpc_service_;  // the gRPC adapter over service_
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<ReadinessMonitor> readiness_;
   std::unique_ptr<http::HttpServer> http_;  // null without --http_listen

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "server/admission/request_footprint.h"
 
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -10,7 +11,6 @@
 #include "google/protobuf/io/coded_stream.h"
 #include "google/protobuf/message.h"
 #include "google/protobuf/wire_format_lite.h"
-#include "grpcpp/support/proto_buffer_reader.h"
 
 namespace ispq::server {
 namespace {
@@ -169,7 +169,7 @@ class FootprintWalk {
     return path;
   }
 
-  // The same words as a failed parse (server/grpc/raw_proto_call.h), for the top-level type.
+  // The same words as a failed parse (server/admission/raw_request.h), for the top-level type.
   absl::Status Malformed() const {
     return absl::InvalidArgumentError(absl::StrCat("the request is not a valid ", root_.full_name(),
                                                    " message (binary protobuf)"));
@@ -185,11 +185,10 @@ class FootprintWalk {
 
 }  // namespace
 
-absl::StatusOr<int64_t> EstimateParsedBytes(const Descriptor& type, const grpc::ByteBuffer& raw,
+absl::StatusOr<int64_t> EstimateParsedBytes(const Descriptor& type, const RequestBytes& raw,
                                             int max_string_bytes) {
-  grpc::ByteBuffer shared(raw);  // shares the slices; the reader needs a mutable buffer
-  grpc::ProtoBufferReader reader(&shared);
-  CodedInputStream input(&reader);
+  const std::unique_ptr<google::protobuf::io::ZeroCopyInputStream> stream = raw.Read();
+  CodedInputStream input(stream.get());
   input.SetTotalBytesLimit(INT32_MAX);
   FootprintWalk walk(type, input, max_string_bytes);
   if (absl::Status walked = walk.Message(type, 0); !walked.ok()) return walked;

@@ -16,7 +16,7 @@
 
 #include "absl/status/statusor.h"
 #include "google/protobuf/descriptor.h"
-#include "grpcpp/support/byte_buffer.h"
+#include "server/admission/request_bytes.h"
 
 namespace ispq::server {
 
@@ -26,7 +26,7 @@ inline constexpr int kMaxRequestStringBytes = 1024;
 // The estimated parsed size of `raw` as a `type` message. INVALID_ARGUMENT naming the field for a
 // string field longer than `max_string_bytes`, and for bytes that are not a `type` message.
 absl::StatusOr<int64_t> EstimateParsedBytes(const google::protobuf::Descriptor& type,
-                                            const grpc::ByteBuffer& raw,
+                                            const RequestBytes& raw,
                                             int max_string_bytes = kMaxRequestStringBytes);
 
 }  // namespace ispq::server

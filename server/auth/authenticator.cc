@@ -5,8 +5,6 @@
 #include <utility>
 
 #include "absl/status/status.h"
-#include "grpc/grpc_security_constants.h"
-#include "grpcpp/security/auth_context.h"
 
 namespace ispq::server {
 namespace {
@@ -30,9 +28,9 @@ Authenticator::Authenticator(AuthenticationConfig config)
     : config_(std::move(config)),
       admins_(config_.admin_principals.begin(), config_.admin_principals.end()) {}
 
-absl::StatusOr<Principal> Authenticator::Authenticate(
-    const grpc::ServerContextBase& context) const {
-  absl::StatusOr<std::string> name = PrincipalName(context);
+absl::StatusOr<Principal> Authenticator::Authenticate(std::string_view authorization,
+                                                      std::string_view certificate_subject) const {
+  absl::StatusOr<std::string> name = PrincipalName(authorization, certificate_subject);
   if (!name.ok()) return name.status();
   return PrincipalNamed(*std::move(name));
 }
@@ -73,24 +71,10 @@ absl::StatusOr<std::string> Authenticator::TokenPrincipal(std::string_view autho
 }
 
 absl::StatusOr<std::string> Authenticator::PrincipalName(
-    const grpc::ServerContextBase& context) const {
-  if (!config_.tokens.empty()) {
-    const auto& metadata = context.client_metadata();
-    const auto it = metadata.find("authorization");
-    const std::string_view value = it == metadata.end()
-                                       ? std::string_view()
-                                       : std::string_view(it->second.data(), it->second.size());
-    return TokenPrincipal(value);
-  }
+    std::string_view authorization, std::string_view certificate_subject) const {
+  if (!config_.tokens.empty()) return TokenPrincipal(authorization);
   if (config_.client_certificates) {
-    const std::shared_ptr<const grpc::AuthContext> auth = context.auth_context();
-    if (auth != nullptr && auth->IsPeerAuthenticated()) {
-      const std::vector<grpc::string_ref> subjects =
-          auth->FindPropertyValues(GRPC_X509_SUBJECT_PROPERTY_NAME);
-      if (!subjects.empty() && !subjects.front().empty()) {
-        return std::string(subjects.front().data(), subjects.front().size());
-      }
-    }
+    if (!certificate_subject.empty()) return std::string(certificate_subject);
     return absl::UnauthenticatedError("the client certificate names no subject");
   }
   return std::string();

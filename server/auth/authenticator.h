@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Authentication of Quantizer calls: the principal (server/auth/principal.h) a call is made by.
+// Authentication of Quantizer calls: the principal (server/auth/principal.h) a call is made by,
+// from what the call presents, whichever transport brought it (gRPC's calls present theirs in
+// server/grpc/call_principal.h, the HTTP side's in server/http/).
 //
 //   * Bearer tokens (--auth_tokens_file, or one token from --auth_token/--auth_token_file): a call
 //     must carry `authorization: Bearer <token>`, and the token's principal is the caller.
@@ -18,7 +20,6 @@
 
 #include "absl/container/flat_hash_set.h"
 #include "absl/status/statusor.h"
-#include "grpcpp/server_context.h"
 #include "server/auth/principal.h"
 #include "server/auth/principal_tokens.h"
 
@@ -34,15 +35,23 @@ class Authenticator {
  public:
   explicit Authenticator(AuthenticationConfig config);
 
-  // The caller, or UNAUTHENTICATED without saying which part was wrong.
-  absl::StatusOr<Principal> Authenticate(const grpc::ServerContextBase& context) const;
+  // The caller of a call that presents `authorization` (its `authorization` metadata, empty if
+  // absent) over a connection whose verified client certificate names `certificate_subject`
+  // (RFC 2253 form; empty: no verified certificate, or one without a subject), or
+  // UNAUTHENTICATED without saying which part was wrong.
+  absl::StatusOr<Principal> Authenticate(std::string_view authorization,
+                                         std::string_view certificate_subject) const;
+  // Whether certificates name the principals (mutual TLS without tokens): only then does
+  // Authenticate look at the certificate's subject.
+  bool NamesByCertificate() const { return config_.tokens.empty() && config_.client_certificates; }
   // The same for a plaintext HTTP request (server/http/) with this `Authorization` header value
   // (empty if absent). It has no client certificate: where certificates name the principals
   // and there are no tokens, it is UNAUTHENTICATED, so plaintext HTTP never bypasses mutual TLS.
   absl::StatusOr<Principal> AuthenticateHttp(std::string_view authorization) const;
 
  private:
-  absl::StatusOr<std::string> PrincipalName(const grpc::ServerContextBase& context) const;
+  absl::StatusOr<std::string> PrincipalName(std::string_view authorization,
+                                            std::string_view certificate_subject) const;
   absl::StatusOr<std::string> TokenPrincipal(std::string_view authorization) const;
   Principal PrincipalNamed(std::string name) const;
 

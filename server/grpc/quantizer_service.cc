@@ -3,216 +3,45 @@
 
 #include <cstdint>
 #include <limits>
-#include <string>
+#include <memory>
 #include <utility>
 
 #include "absl/status/status.h"
-#include "absl/strings/str_cat.h"
-#include "absl/time/clock.h"
-#include "google/protobuf/util/time_util.h"
-#include "server/admission/request_fingerprint.h"
+#include "server/grpc/call_principal.h"
 #include "server/grpc/grpc_status.h"
-#include "server/jobs/retry_hint.h"
-#include "server/logging/log_value.h"
-#include "server/memory/memory_estimates.h"
-#include "server/model/mesh_admission.h"
-#include "server/model/resource_names.h"
-#include "spdlog/spdlog.h"
+#include "server/grpc/job_event_stream.h"
+#include "server/grpc/request_intake.h"
 
 namespace ispq::server {
 namespace {
 
-using google::protobuf::util::TimeUtil;
-
 // Lookups (names, paging) are tiny; anything larger is not one.
 constexpr int64_t kMaxLookupRequestBytes = 64 << 10;
 constexpr int64_t kNoSizeLimit = std::numeric_limits<int64_t>::max();  // gRPC's limit applies
-// Requests up to this size are admitted on gRPC's thread: parsing and validating them takes
-// about a millisecond, less than handing them to another thread would add.
-constexpr int64_t kInlineAdmissionBytes = 256 << 10;
-// A ListJobs page stops before its serialized size passes this (clients' default limit: 4 MiB).
-constexpr int64_t kMaxListPageBytes = (4 << 20) - (64 << 10);
-constexpr absl::Duration kAdmissionRetryHint = absl::Milliseconds(500);
-// With a shared store: threads for calls that wait on the database, and how many calls may wait
-// for them. A call waits at most the store's operation timeout, so a hung database fills the
-// queue within seconds; later calls are refused at once rather than queued behind it.
-constexpr int kStoreCallThreads = 4;
-constexpr int kMaxWaitingStoreCalls = 256;
 
-v1::Mesh MeshToProto(const StoredMesh& stored) {
-  v1::Mesh proto;
-  proto.set_name(ResourceName(kMeshCollection, stored.id));
-  proto.set_display_name(stored.admitted.mesh->name());
-  *proto.mutable_mesh_stats() = stored.admitted.stats;
-  *proto.mutable_create_time() =
-      TimeUtil::NanosecondsToTimestamp(absl::ToUnixNanos(stored.create_time));
-  proto.set_owner(stored.owner);
-  return proto;
-}
-
-absl::Status CancelledBeforeAdmission() {
-  return absl::CancelledError("the call ended before its request was admitted");
+// Answers a unary call with `answer` or its error.
+template <typename Response>
+void Reply(UnaryCall& call, const absl::StatusOr<Response>& answer) {
+  if (answer.ok()) {
+    call.Answer(*answer);
+  } else {
+    call.Fail(answer.status());
+  }
 }
 
 }  // namespace
 
-QuantizerService::QuantizerService(ServiceParts parts, JobLimits limits, AdmissionConfig admission)
-    : scheduler_(parts.scheduler),
-      meshes_(parts.meshes),
-      metrics_(parts.metrics),
-      memory_(parts.memory),
-      authenticator_(parts.authenticator),
-      limits_(limits),
-      start_time_(absl::Now()),
-      request_ids_(
-          [&scheduler = parts.scheduler](const std::string& id) { return scheduler.Find(id); }),
-      store_calls_(parts.scheduler.shared()
-                       ? std::make_unique<AdmissionPool>(kStoreCallThreads, kMaxWaitingStoreCalls)
-                       : nullptr),
-      admission_pool_(admission.threads, admission.max_waiting) {}
-
-// ---------------------------------------------------------------------------------------------
-// Requests that carry a mesh
-
-bool QuantizerService::Dispatch(int64_t request_bytes, AdmissionPool::Task admit) {
-  if (request_bytes <= kInlineAdmissionBytes) return OffGrpcThread(std::move(admit));
-  return admission_pool_.TrySchedule(std::move(admit));
-}
-
-bool QuantizerService::OffGrpcThread(AdmissionPool::Task task) {
-  if (store_calls_ == nullptr) {
-    std::move(task)();
-    return true;
-  }
-  return store_calls_->TrySchedule(std::move(task));
-}
-
-absl::Status QuantizerService::StoreCallsFull() const {
-  return absl::UnavailableError(
-      absl::StrCat("too many calls are waiting for the job store's database (",
-                   kMaxWaitingStoreCalls, "): it answers slowly or not at all; retry later"));
-}
-
-absl::Status QuantizerService::DispatchRefused(int64_t request_bytes) const {
-  if (request_bytes <= kInlineAdmissionBytes) return StoreCallsFull();
-  return AdmissionPoolFull();
-}
-
-absl::Status QuantizerService::AdmissionPoolFull() const {
-  metrics_.RecordRejectedQueueFull();
-  return ResourceExhaustedWithRetryHint(
-      absl::StrCat("too many large requests are waiting to be admitted (",
-                   admission_pool_.max_waiting(), ")"),
-      kAdmissionRetryHint);
-}
-
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::AdmitJob(
-    const std::string& peer, const Principal& principal, const v1::QuantizeRequest& request,
-    int64_t request_bytes, bool bound_to_call, std::string fingerprint) {
-  if (!scheduler_.accepting()) {
-    return absl::UnavailableError("the server is shutting down and accepts no jobs");
-  }
-  const AdmissionContext admission{limits_, principal, meshes_, memory_};
-  absl::StatusOr<JobSpec> spec = PrepareJobSpec(request, request_bytes, admission);
-  if (!spec.ok()) {
-    if (absl::IsInvalidArgument(spec.status())) metrics_.RecordRejectedInvalid();
-    spdlog::debug("event=job_rejected peer={} code={} error={}", peer,
-                  absl::StatusCodeToString(spec.status().code()),
-                  QuotedLogValue(std::string(spec.status().message())));
-    return spec.status();
-  }
-  spec->request_fingerprint = std::move(fingerprint);
-  // A shared store keeps the request, so that any replica can run the job (not a call-bound
-  // one: it runs here or not at all).
-  const std::string stored =
-      scheduler_.shared() && !bound_to_call ? request.SerializeAsString() : std::string();
-  return scheduler_.Submit(*std::move(spec), bound_to_call, stored);
-}
-
-grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
-    grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
-  std::shared_ptr<JobEventStream> stream = JobEventStream::Create(&scheduler_, &memory_.budget());
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(*context);
-  if (!principal.ok()) {
-    stream->Reject(ToGrpcStatus(principal.status()));
-    return stream.get();
-  }
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, memory_);
-  if (!raw.ok()) {
-    stream->Reject(ToGrpcStatus(raw.status(), *context));
-    return stream.get();
-  }
-  const int64_t size = raw->size;
-  const bool dispatched = Dispatch(size, [this, context, stream, principal = *std::move(principal),
-                                          raw = *std::move(raw)]() mutable {
-    AdmitQuantize(*context, *stream, principal, raw);
-  });
-  if (!dispatched) stream->Reject(ToGrpcStatus(DispatchRefused(size), *context));
-  return stream.get();
-}
-
-void QuantizerService::AdmitQuantize(grpc::CallbackServerContext& context, JobEventStream& stream,
-                                     const Principal& principal, RawRequest& raw) {
-  absl::StatusOr<std::shared_ptr<Job>> job = QuantizeJob(context, principal, raw);
-  if (!job.ok()) {
-    stream.Reject(ToGrpcStatus(job.status(), context));
-    return;
-  }
-  // A call that is already over (its deadline passed during admission) cancels the job here.
-  stream.Attach(*std::move(job), /*from_event=*/0);
-}
-
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::QuantizeJob(
-    grpc::CallbackServerContext& context, const Principal& principal, RawRequest& raw) {
-  if (context.IsCancelled()) return CancelledBeforeAdmission();
-  absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
-      ParseWithinBudget<v1::QuantizeRequest>(raw, memory_);
-  if (!parsed.ok()) {
-    if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
-    return parsed.status();
-  }
-  if (!parsed->message.request_id().empty()) {
-    metrics_.RecordRejectedInvalid();
-    return absl::InvalidArgumentError(
-        "request_id is for SubmitJob: a Quantize job ends with its call, so a retried Quantize "
-        "is a new job");
-  }
-  return AdmitJob(context.peer(), principal, parsed->message, raw.size, /*bound_to_call=*/true);
-}
-
-grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContext* context,
-                                                      const grpc::ByteBuffer* request,
-                                                      grpc::ByteBuffer* response) {
-  auto* call = new UnaryCall(context, response, &memory_);
-  std::optional<AcceptedRequest> accepted = Accept(*call, request, kNoSizeLimit);
-  if (!accepted.has_value()) return call;
-  JobSubmission submission;
-  submission.principal = std::move(accepted->principal);
-  submission.raw = std::move(accepted->raw);
-  submission.peer = context->peer();
-  submission.abandoned = [context] { return context->IsCancelled(); };
-  submission.answer = [call](const JobSubmission::Outcome& job) { AnswerJob(*call, job); };
-  Submit(std::move(submission));
-  return call;
-}
-
-void QuantizerService::Submit(JobSubmission submission) {
-  auto shared = std::make_shared<JobSubmission>(std::move(submission));
-  const int64_t size = shared->raw.size;
-  if (!Dispatch(size, [this, shared] { AdmitSubmission(shared); })) {
-    Discard(shared->raw);
-    shared->answer(DispatchRefused(size));
-  }
-}
+QuantizerService::QuantizerService(JobService& service, const Authenticator& authenticator)
+    : service_(service), authenticator_(authenticator) {}
 
 std::optional<QuantizerService::AcceptedRequest> QuantizerService::Accept(
     UnaryCall& call, const grpc::ByteBuffer* request, int64_t max_bytes) {
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(call.context());
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, call.context());
   if (!principal.ok()) {
     call.Fail(principal.status());
     return std::nullopt;
   }
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, max_bytes, memory_);
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, max_bytes, service_.memory());
   if (!raw.ok()) {
     call.Fail(raw.status());
     return std::nullopt;
@@ -220,111 +49,77 @@ std::optional<QuantizerService::AcceptedRequest> QuantizerService::Accept(
   return AcceptedRequest{*std::move(principal), *std::move(raw)};
 }
 
-void QuantizerService::AnswerJob(UnaryCall& call, const absl::StatusOr<std::shared_ptr<Job>>& job) {
-  if (job.ok()) {
-    call.Answer((*job)->ToProto(v1::FULL));
-  } else {
-    call.Fail(job.status());
+// ---------------------------------------------------------------------------------------------
+// Requests that carry a mesh
+
+grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::Quantize(
+    grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
+  std::shared_ptr<JobEventStream> stream =
+      JobEventStream::Create(&service_.scheduler(), &service_.memory().budget());
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, *context);
+  if (!principal.ok()) {
+    stream->Reject(ToGrpcStatus(principal.status()));
+    return stream.get();
   }
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kNoSizeLimit, service_.memory());
+  if (!raw.ok()) {
+    stream->Reject(ToGrpcStatus(raw.status(), *context));
+    return stream.get();
+  }
+  JobSubmission submission;
+  submission.principal = *std::move(principal);
+  submission.raw = *std::move(raw);
+  submission.peer = context->peer();
+  // The stream does not finish the call before its job is attached or the call rejected, so the
+  // context outlives admission.
+  submission.abandoned = [context] { return context->IsCancelled(); };
+  submission.answer = [context, stream](const JobSubmission::Outcome& job) {
+    if (!job.ok()) {
+      stream->Reject(ToGrpcStatus(job.status(), *context));
+      return;
+    }
+    // A call that is already over (its deadline passed during admission) cancels the job here.
+    stream->Attach(*job, /*from_event=*/0);
+  };
+  service_.Quantize(std::move(submission));
+  return stream.get();
 }
 
-void QuantizerService::AdmitSubmission(const std::shared_ptr<JobSubmission>& submission) {
-  // Decided in its own scope so that the parsed request and its reservation are gone before the
-  // caller hears the outcome: a refused request holds no memory once it is answered.
-  std::optional<JobSubmission::Outcome> outcome = DecideSubmission(submission);
-  if (outcome.has_value()) submission->answer(*outcome);
-}
-
-std::optional<JobSubmission::Outcome> QuantizerService::DecideSubmission(
-    const std::shared_ptr<JobSubmission>& submission) {
-  const JobSubmission& s = *submission;
-  if (s.abandoned && s.abandoned()) return CancelledBeforeAdmission();
-  absl::StatusOr<ParsedRequest<v1::QuantizeRequest>> parsed =
-      ParseWithinBudget<v1::QuantizeRequest>(submission->raw, memory_);
-  if (!parsed.ok()) {
-    if (absl::IsInvalidArgument(parsed.status())) metrics_.RecordRejectedInvalid();
-    return parsed.status();
-  }
-  v1::QuantizeRequest& request = parsed->message;
-  const int64_t size = submission->raw.size;
-  if (request.request_id().empty()) {
-    return AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false);
-  }
-  if (absl::Status valid = ValidateRequestId(request.request_id()); !valid.ok()) {
-    metrics_.RecordRejectedInvalid();
-    return valid;
-  }
-  // The fingerprint covers everything but the id itself.
-  std::string request_id = std::move(*request.mutable_request_id());
-  request.clear_request_id();
-  std::string fingerprint = RequestFingerprint(request);
-  request.set_request_id(request_id);
-  RequestIds::Decision decision = request_ids_.Begin(
-      s.principal.name, request_id, fingerprint,
-      [submission](RequestIds::Outcome outcome) { submission->answer(outcome); });
-  if (decision.outcome.has_value()) return *decision.outcome;
-  if (!decision.ticket.has_value()) return std::nullopt;  // the first call with this id answers
-  const absl::StatusOr<std::shared_ptr<Job>> job =
-      AdmitJob(s.peer, s.principal, request, size, /*bound_to_call=*/false, fingerprint);
-  request_ids_.Complete(*decision.ticket, job);
-  return job;
+grpc::ServerUnaryReactor* QuantizerService::SubmitJob(grpc::CallbackServerContext* context,
+                                                      const grpc::ByteBuffer* request,
+                                                      grpc::ByteBuffer* response) {
+  auto* call = new UnaryCall(context, response, &service_.memory());
+  std::optional<AcceptedRequest> accepted = Accept(*call, request, kNoSizeLimit);
+  if (!accepted.has_value()) return call;
+  JobSubmission submission;
+  submission.principal = std::move(accepted->principal);
+  submission.raw = std::move(accepted->raw);
+  submission.peer = context->peer();
+  submission.abandoned = [context] { return context->IsCancelled(); };
+  submission.answer = [call](const JobSubmission::Outcome& job) {
+    if (job.ok()) {
+      call->Answer((*job)->ToProto(v1::FULL));
+    } else {
+      call->Fail(job.status());
+    }
+  };
+  service_.Submit(std::move(submission));
+  return call;
 }
 
 grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerContext* context,
                                                        const grpc::ByteBuffer* request,
                                                        grpc::ByteBuffer* response) {
-  auto* call = new UnaryCall(context, response, &memory_);
+  auto* call = new UnaryCall(context, response, &service_.memory());
   std::optional<AcceptedRequest> accepted = Accept(*call, request, kNoSizeLimit);
   if (!accepted.has_value()) return call;
-  const int64_t size = accepted->raw.size;
-  const bool dispatched = Dispatch(size, [this, call, accepted = *std::move(accepted)]() mutable {
-    // Decided first, answered after: the parsed request's reservation is gone by then.
-    absl::StatusOr<v1::Mesh> created = AdmitCreateMesh(*call, accepted.principal, accepted.raw);
-    if (created.ok()) {
-      call->Answer(*created);
-    } else {
-      call->Fail(created.status());
-    }
-  });
-  if (!dispatched) call->Fail(DispatchRefused(size));
+  MeshCreation creation;
+  creation.principal = std::move(accepted->principal);
+  creation.raw = std::move(accepted->raw);
+  creation.abandoned = [context] { return context->IsCancelled(); };
+  creation.answer = [call](const absl::StatusOr<v1::Mesh>& mesh) { Reply(*call, mesh); };
+  service_.CreateMesh(std::move(creation));
   return call;
-}
-
-absl::StatusOr<v1::Mesh> QuantizerService::AdmitCreateMesh(UnaryCall& call,
-                                                           const Principal& principal,
-                                                           RawRequest& raw) {
-  if (call.context().IsCancelled()) return CancelledBeforeAdmission();
-  absl::StatusOr<ParsedRequest<v1::CreateMeshRequest>> parsed =
-      ParseWithinBudget<v1::CreateMeshRequest>(raw, memory_);
-  if (!parsed.ok()) return parsed.status();
-  absl::StatusOr<AdmittedMesh> mesh = StoreableMesh(parsed->message.mesh(), raw.size);
-  if (!mesh.ok()) {
-    if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
-    return mesh.status();
-  }
-  absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
-      meshes_.Add(*std::move(mesh), parsed->message.mesh(), principal.name, absl::Now());
-  if (!stored.ok()) return stored.status();
-  v1::Mesh answer = MeshToProto(**stored);
-  spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),
-               QuotedLogValue(answer.owner()), QuotedLogValue(answer.display_name()),
-               answer.mesh_stats().arcs());
-  return answer;
-}
-
-absl::StatusOr<AdmittedMesh> QuantizerService::StoreableMesh(const v1::TMesh& proto,
-                                                             int64_t request_bytes) {
-  if (absl::Status size = CheckMeshSize(proto, limits_.max_arcs); !size.ok()) return size;
-  absl::StatusOr<MemoryReservation> memory =
-      memory_.Reserve(MemoryUse::kStoredMeshes, MeshBytes(request_bytes), "the mesh");
-  if (!memory.ok()) return memory.status();
-  return AdmitMesh(proto, limits_.max_arcs, *std::move(memory));
-}
-
-absl::StatusOr<JobSpec> QuantizerService::Readmit(const JobClaims::Claim& claim) {
-  const Principal owner{.name = claim.owner, .admin = true};
-  const AdmissionContext admission{limits_, owner, meshes_, memory_};
-  return PrepareJobSpec(claim.request, claim.request_bytes, admission);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -333,163 +128,78 @@ absl::StatusOr<JobSpec> QuantizerService::Readmit(const JobClaims::Claim& claim)
 template <typename Request, typename Handler>
 grpc::ServerUnaryReactor* QuantizerService::Lookup(grpc::CallbackServerContext* context,
                                                    const grpc::ByteBuffer* request,
-                                                   grpc::ByteBuffer* response, Handler&& handler) {
-  auto* call = new UnaryCall(context, response, &memory_);
+                                                   grpc::ByteBuffer* response, Handler handler) {
+  auto* call = new UnaryCall(context, response, &service_.memory());
   std::optional<AcceptedRequest> accepted = Accept(*call, request, kMaxLookupRequestBytes);
   if (!accepted.has_value()) return call;
   absl::StatusOr<ParsedRequest<Request>> parsed =
-      ParseWithinBudget<Request>(accepted->raw, memory_);
+      ParseWithinBudget<Request>(accepted->raw, service_.memory());
   if (!parsed.ok()) {
     call->Fail(parsed.status());
     return call;
   }
+  // The service, not this adapter: a store-call thread may run this after the gRPC server and
+  // the adapter are gone, the service (which joins those threads) not.
   const bool scheduled =
-      OffGrpcThread([call, handler = std::forward<Handler>(handler), parsed = *std::move(parsed),
-                     principal = std::move(accepted->principal)]() mutable {
-        auto answer = handler(parsed.message, principal);
-        if (answer.ok()) {
-          call->Answer(*answer);
-        } else {
-          call->Fail(answer.status());
-        }
+      service_.OffTransportThread([call, handler, service = &service_, parsed = *std::move(parsed),
+                                   principal = std::move(accepted->principal)]() mutable {
+        Reply(*call, handler(*service, parsed.message, principal));
       });
-  if (!scheduled) call->Fail(StoreCallsFull());
+  if (!scheduled) call->Fail(service_.StoreCallsFull());
   return call;
-}
-
-absl::StatusOr<std::shared_ptr<Job>> QuantizerService::FindJob(const std::string& name,
-                                                               const Principal& principal) {
-  absl::StatusOr<std::string> id = ParseResourceName(kJobCollection, name);
-  if (!id.ok()) return id.status();
-  absl::StatusOr<std::shared_ptr<Job>> found = scheduler_.Lookup(*id);
-  if (!found.ok()) {
-    // Not NOT_FOUND: the job may well exist, and the client should retry.
-    return absl::UnavailableError(
-        absl::StrCat("job ", name, " cannot be looked up now: ", found.status().message()));
-  }
-  std::shared_ptr<Job> job = *std::move(found);
-  if (job == nullptr || !principal.CanAccess(job->owner())) {
-    return absl::NotFoundError(
-        absl::StrCat("job ", name, " not found: never submitted, or ended longer ago than the ",
-                     "server keeps finished jobs"));
-  }
-  return job;
 }
 
 grpc::ServerWriteReactor<grpc::ByteBuffer>* QuantizerService::WatchJob(
     grpc::CallbackServerContext* context, const grpc::ByteBuffer* request) {
   std::shared_ptr<JobEventStream> stream =
-      JobEventStream::Create(/*cancel_job_with_call=*/nullptr, &memory_.budget());
+      JobEventStream::Create(/*cancel_job_with_call=*/nullptr, &service_.memory().budget());
   absl::StatusOr<WatchCall> accepted = AcceptWatch(*context, request);
   if (!accepted.ok()) {
     stream->Reject(ToGrpcStatus(accepted.status(), *context));
     return stream.get();
   }
-  const bool scheduled =
-      OffGrpcThread([this, context, stream, accepted = *std::move(accepted)]() mutable {
-        absl::StatusOr<WatchTarget> watched = Watch(accepted.request, accepted.principal);
+  const bool scheduled = service_.OffTransportThread(
+      [service = &service_, context, stream, accepted = *std::move(accepted)]() mutable {
+        absl::StatusOr<WatchTarget> watched = service->Watch(accepted.request, accepted.principal);
         if (!watched.ok()) {
           stream->Reject(ToGrpcStatus(watched.status(), *context));
         } else {
           stream->Attach(std::move(watched->job), watched->from_event);
         }
       });
-  if (!scheduled) stream->Reject(ToGrpcStatus(StoreCallsFull(), *context));
+  if (!scheduled) stream->Reject(ToGrpcStatus(service_.StoreCallsFull(), *context));
   return stream.get();
 }
 
 absl::StatusOr<QuantizerService::WatchCall> QuantizerService::AcceptWatch(
     grpc::CallbackServerContext& context, const grpc::ByteBuffer* request) {
-  absl::StatusOr<Principal> principal = authenticator_.Authenticate(context);
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, context);
   if (!principal.ok()) return principal.status();
-  absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, memory_);
+  absl::StatusOr<RawRequest> raw = TakeRequest(request, kMaxLookupRequestBytes, service_.memory());
   if (!raw.ok()) return raw.status();
   absl::StatusOr<ParsedRequest<v1::WatchJobRequest>> parsed =
-      ParseWithinBudget<v1::WatchJobRequest>(*raw, memory_);
+      ParseWithinBudget<v1::WatchJobRequest>(*raw, service_.memory());
   if (!parsed.ok()) return parsed.status();
   return WatchCall{*std::move(principal), std::move(parsed->message)};
-}
-
-absl::StatusOr<WatchTarget> QuantizerService::Watch(const v1::WatchJobRequest& request,
-                                                    const Principal& principal) {
-  if (request.from_event() < 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("from_event ", request.from_event(), " is negative"));
-  }
-  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
-  if (!job.ok()) return job.status();
-  return WatchTarget{*std::move(job), request.from_event()};
-}
-
-absl::StatusOr<v1::Job> QuantizerService::GetJob(const v1::GetJobRequest& request,
-                                                 const Principal& principal) {
-  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
-  if (!job.ok()) return job.status();
-  return (*job)->ToProto(request.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::FULL : request.view());
-}
-
-absl::StatusOr<v1::ListJobsResponse> QuantizerService::ListJobs(const v1::ListJobsRequest& request,
-                                                                const Principal& principal) {
-  JobStore::Query query;
-  query.page_size = request.page_size();
-  query.page_token = request.page_token();
-  query.state = request.state();
-  query.visible = [&principal](const Job& job) { return principal.CanAccess(job.owner()); };
-  absl::StatusOr<JobStore::Page> page = scheduler_.List(query);
-  if (!page.ok()) return page.status();
-  const v1::JobView view = request.view() == v1::JOB_VIEW_UNSPECIFIED ? v1::BASIC : request.view();
-  v1::ListJobsResponse listed;
-  int64_t bytes = 0;
-  for (const JobStore::Listed& entry : page->jobs) {
-    v1::Job job = entry.job->ToProto(view);
-    const int64_t size = static_cast<int64_t>(job.ByteSizeLong());
-    if (listed.jobs_size() > 0 && bytes + size > kMaxListPageBytes) {
-      listed.set_next_page_token(entry.token);  // the page is full: resume at this job
-      return listed;
-    }
-    bytes += size;
-    *listed.add_jobs() = std::move(job);
-  }
-  listed.set_next_page_token(page->next_page_token);
-  return listed;
-}
-
-absl::StatusOr<v1::Job> QuantizerService::CancelJob(const v1::CancelJobRequest& request,
-                                                    const Principal& principal) {
-  absl::StatusOr<std::shared_ptr<Job>> job = FindJob(request.name(), principal);
-  if (!job.ok()) return job.status();
-  scheduler_.Cancel(**job);
-  return (*job)->ToProto(v1::FULL);
-}
-
-v1::ServerStats QuantizerService::Stats() const {
-  v1::ServerStats stats;
-  metrics_.FillProto(stats);
-  scheduler_.FillStats(stats);
-  stats.set_stored_meshes(meshes_.size());
-  *stats.mutable_uptime() =
-      TimeUtil::NanosecondsToDuration(absl::ToInt64Nanoseconds(absl::Now() - start_time_));
-  stats.set_shutting_down(!scheduler_.accepting());
-  *stats.mutable_memory() = memory_.budget().ToProto();
-  stats.set_admissions_in_progress(admission_pool_.in_progress());
-  return stats;
 }
 
 grpc::ServerUnaryReactor* QuantizerService::GetJob(grpc::CallbackServerContext* context,
                                                    const grpc::ByteBuffer* request,
                                                    grpc::ByteBuffer* response) {
-  return Lookup<v1::GetJobRequest>(context, request, response,
-                                   [&](const v1::GetJobRequest& get, const Principal& principal) {
-                                     return GetJob(get, principal);
-                                   });
+  return Lookup<v1::GetJobRequest>(
+      context, request, response,
+      [](JobService& service, const v1::GetJobRequest& get, const Principal& principal) {
+        return service.GetJob(get, principal);
+      });
 }
 
 grpc::ServerUnaryReactor* QuantizerService::ListJobs(grpc::CallbackServerContext* context,
                                                      const grpc::ByteBuffer* request,
                                                      grpc::ByteBuffer* response) {
   return Lookup<v1::ListJobsRequest>(
-      context, request, response, [&](const v1::ListJobsRequest& list, const Principal& principal) {
-        return ListJobs(list, principal);
+      context, request, response,
+      [](JobService& service, const v1::ListJobsRequest& list, const Principal& principal) {
+        return service.ListJobs(list, principal);
       });
 }
 
@@ -498,8 +208,8 @@ grpc::ServerUnaryReactor* QuantizerService::CancelJob(grpc::CallbackServerContex
                                                       grpc::ByteBuffer* response) {
   return Lookup<v1::CancelJobRequest>(
       context, request, response,
-      [&](const v1::CancelJobRequest& cancel, const Principal& principal) {
-        return CancelJob(cancel, principal);
+      [](JobService& service, const v1::CancelJobRequest& cancel, const Principal& principal) {
+        return service.CancelJob(cancel, principal);
       });
 }
 
@@ -508,11 +218,8 @@ grpc::ServerUnaryReactor* QuantizerService::GetMesh(grpc::CallbackServerContext*
                                                     grpc::ByteBuffer* response) {
   return Lookup<v1::GetMeshRequest>(
       context, request, response,
-      [&](const v1::GetMeshRequest& get, const Principal& principal) -> absl::StatusOr<v1::Mesh> {
-        absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
-            FindStoredMesh(get.name(), principal, meshes_);
-        if (!stored.ok()) return stored.status();
-        return MeshToProto(**stored);
+      [](JobService& service, const v1::GetMeshRequest& get, const Principal& principal) {
+        return service.GetMesh(get, principal);
       });
 }
 
@@ -521,15 +228,8 @@ grpc::ServerUnaryReactor* QuantizerService::DeleteMesh(grpc::CallbackServerConte
                                                        grpc::ByteBuffer* response) {
   return Lookup<v1::DeleteMeshRequest>(
       context, request, response,
-      [&](const v1::DeleteMeshRequest& remove,
-          const Principal& principal) -> absl::StatusOr<v1::DeleteMeshResponse> {
-        absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
-            FindStoredMesh(remove.name(), principal, meshes_);
-        if (!stored.ok()) return stored.status();
-        if (!meshes_.Remove((*stored)->id)) {
-          return absl::NotFoundError(absl::StrCat("mesh ", remove.name(), " not found"));
-        }
-        return v1::DeleteMeshResponse();
+      [](JobService& service, const v1::DeleteMeshRequest& remove, const Principal& principal) {
+        return service.DeleteMesh(remove, principal);
       });
 }
 
@@ -538,9 +238,8 @@ grpc::ServerUnaryReactor* QuantizerService::GetServerStats(grpc::CallbackServerC
                                                            grpc::ByteBuffer* response) {
   return Lookup<v1::GetServerStatsRequest>(
       context, request, response,
-      [&](const v1::GetServerStatsRequest&, const Principal&) -> absl::StatusOr<v1::ServerStats> {
-        return Stats();
-      });
+      [](JobService& service, const v1::GetServerStatsRequest&,
+         const Principal&) -> absl::StatusOr<v1::ServerStats> { return service.Stats(); });
 }
 
 }  // namespace ispq::server

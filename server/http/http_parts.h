@@ -14,13 +14,13 @@
 #include "absl/time/time.h"
 #include "server/admission/memory_admission.h"
 #include "server/auth/authenticator.h"
-#include "server/grpc/quantizer_service.h"
 #include "server/metrics/server_metrics.h"
+#include "server/service/job_service.h"
 
 namespace ispq::server::http {
 
 struct HttpParts {
-  QuantizerService& service;
+  JobService& service;
   const Authenticator& authenticator;
   MemoryAdmission& memory;
   ServerMetrics& metrics;

@@ -9,14 +9,14 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/time/time.h"
-#include "grpcpp/support/byte_buffer.h"
-#include "grpcpp/support/slice.h"
-#include "server/grpc/job_submission.h"
+#include "server/admission/raw_request.h"
+#include "server/admission/request_bytes.h"
 #include "server/http/http_exchange.h"
 #include "server/http/json_guard.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
 #include "server/model/resource_names.h"
+#include "server/service/job_submission.h"
 
 namespace ispq::server::http {
 namespace {
@@ -42,11 +42,9 @@ absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& 
       JsonToBinary(*v1::QuantizeRequest::descriptor(), request.body);
   request.ReleaseBody();
   if (!binary.ok()) return binary.status();
-  grpc::Slice slice(*binary);
-  *binary = std::string();  // the slice holds the bytes now
-  grpc::ByteBuffer buffer(&slice, 1);
-  converted->Release();  // TakeRequest accounts for the bytes themselves
-  return TakeRequest(&buffer, limits.max_body_bytes, parts.memory);
+  auto bytes = std::make_unique<StringRequestBytes>(*std::move(binary));
+  converted->Release();  // AccountRequest accounts for the bytes themselves
+  return AccountRequest(std::move(bytes), limits.max_body_bytes, parts.memory);
 }
 
 void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& request,

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// The JSON API over jobs, each route one call of the transport-neutral QuantizerService
-// operations (server/grpc/quantizer_service.h), so that it has the gRPC method's semantics and errors:
+// The JSON API over jobs, each route one call of the transport-neutral JobService operations
+// (server/service/job_service.h), so that it has the gRPC method's semantics and errors:
 //
 //   POST /v1/jobs               SubmitJob: body an ispq.v1.QuantizeRequest in JSON (a mesh or a
 //                               stored_mesh, options, request_id); answer the Job

@@ -3,8 +3,8 @@
 // as JSON (lowerCamelCase names, enums by name, 64-bit integers as strings, zeros printed as the
 // CLI's result files have them), and request bodies are converted from JSON straight to the
 // binary wire format, without building the message. The binary request then enters the server
-// exactly as a gRPC request does (server/grpc/request_intake.h): the same memory accounting, the same
-// estimate before parsing, the same parser and limits.
+// exactly as a gRPC request does (server/admission/raw_request.h): the same memory accounting, the
+// same estimate before parsing, the same parser and limits.
 #ifndef ISPQ_SERVER_HTTP_PROTO_JSON_H_
 #define ISPQ_SERVER_HTTP_PROTO_JSON_H_
 

@@ -2,7 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """The server's layers (server/CMakeLists.txt) hold: every `#include "server/..."` under server/
 names a header of the including file's own layer or of a layer below it, never one above or
-beside it, and the top level of server/ keeps at most MAX_TOP_LEVEL_FILES files (the wiring).
+beside it; gRPC's headers (grpcpp/, grpc/, generated *.grpc.pb.h) are included only in the
+layers of GRPC_LAYERS (the gRPC transport and the wiring), so that everything else, the HTTP
+transport and the service included, is free of gRPC; and the top level of server/ keeps at most
+MAX_TOP_LEVEL_FILES files (the wiring).
 
 LAYERS below is the one table of the layering. Each layer is a folder with a CMake library of
 its own, and that library links exactly the layers listed here as directly below it (checked
@@ -29,14 +32,18 @@ LAYERS = {
     "server/store/postgres": ("ispq_server_store_postgres", ["server/store", "server/logging"]),
     "server/jobs": ("ispq_server_jobs", ["server/store", "server/metrics", "server/logging"]),
     "server/admission": ("ispq_server_admission", ["server/jobs", "server/auth"]),
-    "server/grpc": ("ispq_server_grpc", ["server/admission"]),
-    "server/http": ("ispq_server_http", ["server/grpc"]),
-    "server": ("ispq_server", ["server/http", "server/store/postgres"]),
+    "server/service": ("ispq_server_service", ["server/admission"]),
+    "server/grpc": ("ispq_server_grpc", ["server/service"]),
+    "server/http": ("ispq_server_http", ["server/service"]),
+    "server": ("ispq_server", ["server/grpc", "server/http", "server/store/postgres"]),
 }
+# The only layers whose files may include gRPC's headers.
+GRPC_LAYERS = {"server/grpc", "server"}
 MAX_TOP_LEVEL_FILES = 12  # CMakeLists.txt included
 
 SOURCES = (".h", ".cc")
 INCLUDE = re.compile(r'^\s*#\s*include\s+"(server/[^"]+)"')
+GRPC_INCLUDE = re.compile(r'^\s*#\s*include\s+[<"]((?:grpcpp|grpc)/[^">]+|[^">]*\.grpc\.pb\.h)[">]')
 LINKS = re.compile(r"target_link_libraries\(\s*([A-Za-z0-9_-]+)([^)]*)\)", re.S)
 
 
@@ -64,6 +71,8 @@ def below(layer):
 
 def check_table():
     problems = []
+    for layer in GRPC_LAYERS - set(LAYERS):
+        problems.append(f"GRPC_LAYERS: {layer} is no layer")
     for layer, (_, lowers) in LAYERS.items():
         for lower in lowers:
             if lower not in LAYERS:
@@ -102,6 +111,12 @@ def check_includes():
             allowed = below(layer) | {layer}
             with open(os.path.join(ROOT, path), encoding="utf-8") as f:
                 for number, line in enumerate(f, 1):
+                    grpc = GRPC_INCLUDE.match(line)
+                    if grpc and layer not in GRPC_LAYERS:
+                        problems.append(
+                            f"{path}:{number}: includes gRPC's {grpc.group(1)}; only "
+                            f"{', '.join(f'{layer}/' for layer in sorted(GRPC_LAYERS))} may (the others are free of gRPC)")
+                        continue
                     match = INCLUDE.match(line)
                     if not match:
                         continue
@@ -165,7 +180,8 @@ def main():
         print(f"{len(problems)} layering problem(s); the layers are in LAYERS of "
               f"{os.path.relpath(__file__, ROOT)}")
         return 1
-    print(f"server/: {len(LAYERS)} layers, every include downwards")
+    print(f"server/: {len(LAYERS)} layers, every include downwards, gRPC only in "
+          f"{', '.join(f'{layer}/' for layer in sorted(GRPC_LAYERS))}")
     return 0
 
 

@@ -6,6 +6,7 @@
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "ispq/v1/service.pb.h"
+#include "server/admission/request_bytes.h"
 #include "tests/support/test_data.h"
 
 namespace ispq::server {
@@ -13,10 +14,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-grpc::ByteBuffer BufferOf(const std::string& bytes) {
-  grpc::Slice slice(bytes);
-  return grpc::ByteBuffer(&slice, 1);
-}
+StringRequestBytes BufferOf(const std::string& bytes) { return StringRequestBytes(bytes); }
 
 absl::StatusOr<int64_t> Estimate(const google::protobuf::Message& message) {
   return EstimateParsedBytes(*message.GetDescriptor(), BufferOf(message.SerializeAsString()));

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // The principal a call is made by (server/auth/authenticator.h), through the path both
 // transports share: a bearer token's principal, admins, the anonymous principal without tokens,
-// and no way around client certificates over plaintext HTTP. The gRPC metadata path is covered
-// by the integration tests that start real servers with tokens and certificates.
+// and no way around client certificates over plaintext HTTP; and what a call over mutual TLS
+// presents (its certificate's subject). Reading those from a gRPC call
+// (server/grpc/call_principal.h) is covered by the integration tests that start real servers
+// with tokens and certificates.
 #include "server/auth/authenticator.h"
 
 #include "gtest/gtest.h"
@@ -71,6 +73,33 @@ TEST(AuthenticatorTest, PlaintextHttpNeverBypassesClientCertificates) {
       Authenticator(both).AuthenticateHttp("Bearer token-of-alice");
   ASSERT_TRUE(alice.ok()) << alice.status();
   EXPECT_EQ(alice->name, "alice");
+}
+
+TEST(AuthenticatorTest, WithoutTokensAVerifiedCertificateNamesThePrincipal) {
+  AuthenticationConfig config;
+  config.client_certificates = true;
+  config.admin_principals = {"CN=root"};
+  const Authenticator authenticator(config);
+  EXPECT_TRUE(authenticator.NamesByCertificate());
+  const absl::StatusOr<Principal> alice =
+      authenticator.Authenticate("Bearer anything", "CN=alice,O=Example");
+  ASSERT_TRUE(alice.ok()) << alice.status();
+  EXPECT_EQ(alice->name, "CN=alice,O=Example");
+  EXPECT_FALSE(alice->admin);
+  const absl::StatusOr<Principal> root = authenticator.Authenticate("", "CN=root");
+  ASSERT_TRUE(root.ok()) << root.status();
+  EXPECT_TRUE(root->admin);
+  EXPECT_TRUE(absl::IsUnauthenticated(authenticator.Authenticate("", "").status()));
+
+  // With tokens the token names the principal, whatever the certificate says.
+  AuthenticationConfig both = WithTokens();
+  both.client_certificates = true;
+  const Authenticator tokens(both);
+  EXPECT_FALSE(tokens.NamesByCertificate());
+  const absl::StatusOr<Principal> bob = tokens.Authenticate("Bearer token-of-bob", "CN=alice");
+  ASSERT_TRUE(bob.ok()) << bob.status();
+  EXPECT_EQ(bob->name, "bob");
+  EXPECT_TRUE(absl::IsUnauthenticated(tokens.Authenticate("", "CN=alice").status()));
 }
 
 }  // namespace

@@ -53,8 +53,9 @@ class JobEventStreamTest : public ::testing::TestWithParam<int> {
                    &budget_),
         memory_(budget_, scheduler_, meshes_, metrics_),
         authenticator_(AuthenticationConfig{}),
-        service_({scheduler_, meshes_, metrics_, memory_, authenticator_},
-                 JobLimits{.max_arcs = 1000000}, AdmissionConfig{}) {
+        job_service_({scheduler_, meshes_, metrics_, memory_}, JobLimits{.max_arcs = 1000000},
+                     AdmissionConfig{}),
+        service_(job_service_, authenticator_) {
     grpc::ServerBuilder builder;
     builder.RegisterService(&service_);
     server_ = builder.BuildAndStart();
@@ -71,7 +72,8 @@ class JobEventStreamTest : public ::testing::TestWithParam<int> {
   JobScheduler scheduler_;
   MemoryAdmission memory_;
   Authenticator authenticator_;
-  QuantizerService service_;
+  JobService job_service_;
+  QuantizerService service_;  // the gRPC adapter over job_service_
   std::unique_ptr<grpc::Server> server_;
   std::unique_ptr<v1::Quantizer::Stub> stub_;
 };

@@ -1,11 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
-// The service's transport-neutral operations (server/grpc/quantizer_service.h), which both the
-// gRPC methods and the HTTP side call, on the in-memory stores and without a server: a submitted
-// job runs to a valid result; jobs are visible only to their owner and to admins, NOT_FOUND for
-// everyone else; a request id names one job however often it is submitted; an invalid request is
-// INVALID_ARGUMENT naming what is wrong. The gRPC methods around them are tested end to end in
-// tests/integration.
-#include "server/grpc/quantizer_service.h"
+// The service's transport-neutral operations (server/service/job_service.h), which both the
+// gRPC adapter (server/grpc/quantizer_service.h) and the HTTP side call, on the in-memory stores
+// and without a server: a submitted job runs to a valid result; jobs are visible only to their
+// owner and to admins, NOT_FOUND for everyone else; a request id names one job however often it is
+// submitted; an invalid request is INVALID_ARGUMENT naming what is wrong. The gRPC methods around
+// them are tested end to end in tests/integration.
+#include "server/service/job_service.h"
 
 #include <memory>
 #include <string>
@@ -15,8 +15,8 @@
 #include "core/proto/quantization_proto.h"
 #include "core/quantization_validator.h"
 #include "gmock/gmock.h"
-#include "grpcpp/support/byte_buffer.h"
 #include "gtest/gtest.h"
+#include "server/admission/request_bytes.h"
 #include "server/store/mesh_store.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
@@ -37,30 +37,22 @@ v1::QuantizeRequest NotchRequest(const std::string& request_id = "") {
   return request;
 }
 
-AuthenticationConfig AdminNamedAdmin() {
-  AuthenticationConfig config;
-  config.admin_principals = {"admin"};
-  return config;
-}
-
-class QuantizerServiceTest : public ::testing::Test {
+class JobServiceTest : public ::testing::Test {
  protected:
-  explicit QuantizerServiceTest(int workers = 1)
+  explicit JobServiceTest(int workers = 1)
       : budget_(1 << 30),
         meshes_(10),
         scheduler_({.workers = workers, .max_queued_jobs = 8, .retention = {}}, metrics_, &budget_),
         memory_(budget_, scheduler_, meshes_, metrics_),
-        authenticator_(AdminNamedAdmin()),
-        service_({scheduler_, meshes_, metrics_, memory_, authenticator_},
-                 JobLimits{.max_arcs = 1000000}, AdmissionConfig{}) {}
+        service_({scheduler_, meshes_, metrics_, memory_}, JobLimits{.max_arcs = 1000000},
+                 AdmissionConfig{}) {}
 
   // Submits as `owner` and waits for the answer.
   JobSubmission::Outcome Submit(const v1::QuantizeRequest& request, const std::string& owner) {
     const std::string bytes = request.SerializeAsString();
-    grpc::Slice slice(bytes);
     JobSubmission submission;
     submission.principal = Principal{.name = owner};
-    submission.raw.bytes = grpc::ByteBuffer(&slice, 1);
+    submission.raw.bytes = std::make_unique<StringRequestBytes>(bytes);
     submission.raw.size = static_cast<int64_t>(bytes.size());
     submission.peer = "test";
     absl::Notification answered;
@@ -86,11 +78,10 @@ class QuantizerServiceTest : public ::testing::Test {
   InMemoryMeshStore meshes_;
   JobScheduler scheduler_;
   MemoryAdmission memory_;
-  Authenticator authenticator_;
-  QuantizerService service_;
+  JobService service_;
 };
 
-TEST_F(QuantizerServiceTest, ASubmittedJobRunsToAValidResultItsOwnerCanGet) {
+TEST_F(JobServiceTest, ASubmittedJobRunsToAValidResultItsOwnerCanGet) {
   const JobSubmission::Outcome job = Submit(NotchRequest(), "alice");
   ASSERT_TRUE(job.ok()) << job.status();
   ASSERT_TRUE(testing::WaitUntil([&] { return (*job)->done(); }));
@@ -106,7 +97,7 @@ TEST_F(QuantizerServiceTest, ASubmittedJobRunsToAValidResultItsOwnerCanGet) {
   EXPECT_TRUE(report->valid()) << report->Describe();
 }
 
-TEST_F(QuantizerServiceTest, JobsAreVisibleToTheirOwnerAndAdminsOnly) {
+TEST_F(JobServiceTest, JobsAreVisibleToTheirOwnerAndAdminsOnly) {
   const JobSubmission::Outcome job = Submit(NotchRequest(), "alice");
   ASSERT_TRUE(job.ok()) << job.status();
   const std::string name = (*job)->name();
@@ -138,7 +129,7 @@ TEST_F(QuantizerServiceTest, JobsAreVisibleToTheirOwnerAndAdminsOnly) {
   EXPECT_EQ(target->job, *job);
 }
 
-TEST_F(QuantizerServiceTest, ARequestIdNamesOneJobPerPrincipal) {
+TEST_F(JobServiceTest, ARequestIdNamesOneJobPerPrincipal) {
   const JobSubmission::Outcome first = Submit(NotchRequest("batch-7"), "alice");
   const JobSubmission::Outcome again = Submit(NotchRequest("batch-7"), "alice");
   const JobSubmission::Outcome bobs = Submit(NotchRequest("batch-7"), "bob");
@@ -152,7 +143,7 @@ TEST_F(QuantizerServiceTest, ARequestIdNamesOneJobPerPrincipal) {
   EXPECT_FALSE(conflicting.ok()) << "a request id reused for another request is refused";
 }
 
-TEST_F(QuantizerServiceTest, AnInvalidRequestNamesWhatIsWrong) {
+TEST_F(JobServiceTest, AnInvalidRequestNamesWhatIsWrong) {
   v1::QuantizeRequest request = NotchRequest();
   request.mutable_mesh()->mutable_arcs(3)->set_length(-1);
   const JobSubmission::Outcome refused = Submit(request, "alice");
@@ -160,12 +151,12 @@ TEST_F(QuantizerServiceTest, AnInvalidRequestNamesWhatIsWrong) {
   EXPECT_THAT(std::string(refused.status().message()), HasSubstr("arc 3"));
 }
 
-class QuantizerServiceWithoutWorkersTest : public QuantizerServiceTest {
+class JobServiceWithoutWorkersTest : public JobServiceTest {
  protected:
-  QuantizerServiceWithoutWorkersTest() : QuantizerServiceTest(/*workers=*/0) {}
+  JobServiceWithoutWorkersTest() : JobServiceTest(/*workers=*/0) {}
 };
 
-TEST_F(QuantizerServiceWithoutWorkersTest, TheOwnerCancelsAQueuedJob) {
+TEST_F(JobServiceWithoutWorkersTest, TheOwnerCancelsAQueuedJob) {
   const JobSubmission::Outcome job = Submit(NotchRequest(), "alice");
   ASSERT_TRUE(job.ok()) << job.status();
   v1::CancelJobRequest cancel;

@@ -1,18 +1,19 @@
 // SPDX-License-Identifier: Apache-2.0
-// A SubmitJob request as the service takes it from any transport (gRPC's SubmitJob, the HTTP
-// side's POST /v1/jobs, server/http/): who asks, the request's bytes within the memory budget,
-// and how to answer. Both transports hand their requests to QuantizerService::Submit, so
-// validation, request ids, limits, memory accounting and errors are one code path.
-#ifndef ISPQ_SERVER_JOB_SUBMISSION_H_
-#define ISPQ_SERVER_JOB_SUBMISSION_H_
+// A SubmitJob (or Quantize) request as the service takes it from any transport (gRPC's
+// SubmitJob and Quantize, the HTTP side's POST /v1/jobs, server/http/): who asks, the request's
+// bytes within the memory budget, and how to answer. Both transports hand their requests to
+// JobService::Submit (server/service/job_service.h), so validation, request ids, limits, memory
+// accounting and errors are one code path.
+#ifndef ISPQ_SERVER_SERVICE_JOB_SUBMISSION_H_
+#define ISPQ_SERVER_SERVICE_JOB_SUBMISSION_H_
 
 #include <functional>
 #include <memory>
 #include <string>
 
 #include "absl/status/statusor.h"
+#include "server/admission/raw_request.h"
 #include "server/auth/principal.h"
-#include "server/grpc/request_intake.h"
 #include "server/model/job.h"
 
 namespace ispq::server {
@@ -32,4 +33,4 @@ struct JobSubmission {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_SUBMISSION_H_
+#endif  // ISPQ_SERVER_SERVICE_JOB_SUBMISSION_H_
