@@ -28,6 +28,60 @@ namespace {
 
 using Status = SparseDualSimplex::Status;
 
+// An LP's data kept beside a live solver: to build it afresh in CLP and to check answers.
+struct LpModelCopy {
+  struct Row {
+    std::vector<int32_t> columns;
+    std::vector<double> coefs;
+    double lower, upper;
+  };
+
+  LpModelCopy(int num_columns, double cost)
+      : cost(num_columns, cost), lower(num_columns, 0.0), upper(num_columns, kLpInfinity) {}
+
+  void AddRows(const LpRowBatch& batch) {
+    for (int i = 0; i < batch.size(); ++i) {
+      const int32_t begin = batch.starts()[i], end = batch.starts()[i + 1];
+      rows.push_back({{batch.columns().begin() + begin, batch.columns().begin() + end},
+                      {batch.coefs().begin() + begin, batch.coefs().begin() + end},
+                      batch.lower()[i],
+                      batch.upper()[i]});
+    }
+  }
+  std::unique_ptr<SheetLp> FreshClp() const {
+    std::unique_ptr<SheetLp> lp = NewClpSheetLp(static_cast<int>(cost.size()));
+    LpRowBatch batch;
+    for (const Row& row : rows) batch.Add(row.columns, row.coefs, row.lower, row.upper);
+    lp->AddRows(batch);
+    for (size_t j = 0; j < cost.size(); ++j) {
+      lp->SetObjectiveCoefficient(static_cast<int>(j), cost[j]);
+      lp->SetColumnBounds(static_cast<int>(j), lower[j], upper[j]);
+    }
+    return lp;
+  }
+  double Objective(std::span<const double> x) const {
+    double sum = 0;
+    for (size_t j = 0; j < cost.size(); ++j) sum += cost[j] * x[j];
+    return sum;
+  }
+  // The largest violation of a bound or a row by x.
+  double Violation(std::span<const double> x) const {
+    double worst = 0;
+    for (size_t j = 0; j < cost.size(); ++j) {
+      worst = std::max({worst, lower[j] - x[j], x[j] - upper[j]});
+    }
+    for (const Row& row : rows) {
+      double activity = 0;
+      for (size_t t = 0; t < row.columns.size(); ++t) activity += row.coefs[t] * x[row.columns[t]];
+      worst = std::max({worst, row.lower - activity, activity - row.upper});
+    }
+    return worst;
+  }
+
+  std::vector<Row> rows;
+  std::vector<double> cost, lower, upper;
+};
+
 // A sheet-like LP kept twice: live in the sparse simplex, and as data for fresh CLP solves.
 // Columns come in pairs (Delta+ = 2b, Delta- = 2b + 1) over `bundles` bundles; rows are
 // T-junction equalities x_a = x_b + x_c and inequalities over one to three bundles, written on
@@ -35,11 +89,7 @@ using Status = SparseDualSimplex::Status;
 class SheetLikeLp {
  public:
   SheetLikeLp(int bundles, const SparseDualSimplexOptions& options)
-      : bundles_(bundles),
-        simplex_(2 * bundles, options),
-        cost_(2 * bundles, 1.0),
-        lower_(2 * bundles, 0.0),
-        upper_(2 * bundles, kLpInfinity) {}
+      : bundles_(bundles), simplex_(2 * bundles, options), model_(2 * bundles, 1.0) {}
 
   int bundles() const { return bundles_; }
   SparseDualSimplex& simplex() { return simplex_; }
@@ -56,36 +106,26 @@ class SheetLikeLp {
     LpRowBatch batch;
     batch.Add(columns, coefs, lower, upper);
     simplex_.AddRows(batch);
-    rows_.push_back({columns, coefs, lower, upper});
+    model_.AddRows(batch);
   }
   void SetRowLower(int row, double lower) {
-    rows_[row].lower = lower;
-    simplex_.SetRowBounds(row, lower, rows_[row].upper);
+    model_.rows[row].lower = lower;
+    simplex_.SetRowBounds(row, lower, model_.rows[row].upper);
   }
   void SetCost(int column, double cost) {
-    cost_[column] = cost;
+    model_.cost[column] = cost;
     simplex_.SetObjectiveCoefficient(column, cost);
   }
   void SetBounds(int column, double lower, double upper) {
-    lower_[column] = lower;
-    upper_[column] = upper;
+    model_.lower[column] = lower;
+    model_.upper[column] = upper;
     simplex_.SetColumnBounds(column, lower, upper);
   }
-  int num_rows() const { return static_cast<int>(rows_.size()); }
-  double row_lower(int row) const { return rows_[row].lower; }
+  int num_rows() const { return static_cast<int>(model_.rows.size()); }
+  double row_lower(int row) const { return model_.rows[row].lower; }
 
   // The model as it stands, built from scratch in CLP.
-  std::unique_ptr<SheetLp> FreshClp() const {
-    std::unique_ptr<SheetLp> lp = NewClpSheetLp(2 * bundles_);
-    LpRowBatch batch;
-    for (const Row& row : rows_) batch.Add(row.columns, row.coefs, row.lower, row.upper);
-    lp->AddRows(batch);
-    for (int j = 0; j < 2 * bundles_; ++j) {
-      lp->SetObjectiveCoefficient(j, cost_[j]);
-      lp->SetColumnBounds(j, lower_[j], upper_[j]);
-    }
-    return lp;
-  }
+  std::unique_ptr<SheetLp> FreshClp() const { return model_.FreshClp(); }
 
   // CLP on a model built from scratch: its status, and its objective when optimal.
   std::pair<LpOutcome, double> SolveFresh() const {
@@ -95,40 +135,18 @@ class SheetLikeLp {
     return {*outcome, *outcome == LpOutcome::kOptimal ? Objective(lp->column_values()) : 0};
   }
 
-  double Objective(std::span<const double> x) const {
-    double sum = 0;
-    for (int j = 0; j < 2 * bundles_; ++j) sum += cost_[j] * x[j];
-    return sum;
-  }
+  double Objective(std::span<const double> x) const { return model_.Objective(x); }
   double ObjectiveScale(std::span<const double> x) const {
     double sum = 0;
-    for (int j = 0; j < 2 * bundles_; ++j) sum += std::abs(cost_[j] * x[j]);
+    for (int j = 0; j < 2 * bundles_; ++j) sum += std::abs(model_.cost[j] * x[j]);
     return sum;
   }
-  // The largest violation of a bound or a row by x.
-  double Violation(std::span<const double> x) const {
-    double worst = 0;
-    for (int j = 0; j < 2 * bundles_; ++j) {
-      worst = std::max({worst, lower_[j] - x[j], x[j] - upper_[j]});
-    }
-    for (const Row& row : rows_) {
-      double activity = 0;
-      for (size_t t = 0; t < row.columns.size(); ++t) activity += row.coefs[t] * x[row.columns[t]];
-      worst = std::max({worst, row.lower - activity, activity - row.upper});
-    }
-    return worst;
-  }
+  double Violation(std::span<const double> x) const { return model_.Violation(x); }
 
  private:
-  struct Row {
-    std::vector<int32_t> columns;
-    std::vector<double> coefs;
-    double lower, upper;
-  };
   int bundles_;
   SparseDualSimplex simplex_;
-  std::vector<Row> rows_;
-  std::vector<double> cost_, lower_, upper_;
+  LpModelCopy model_;
 };
 
 struct Scenario {
@@ -432,39 +450,30 @@ class MirroredSheetLp : public SheetLp {
       : simplex_(DualSimplexSheetLpFactory(
             {.new_objective_clp_min_columns = std::numeric_limits<int>::max()})(num_columns)),
         clp_(ClpSheetLpFactory()(num_columns)),
-        cost_(num_columns, 0),
-        lower_(num_columns, 0),
-        upper_(num_columns, kLpInfinity),
+        model_(num_columns, 0),
         tally_(tally) {}
 
   int num_columns() const override { return simplex_->num_columns(); }
   int num_rows() const override { return simplex_->num_rows(); }
   void SetObjectiveCoefficient(int column, double value) override {
-    cost_[column] = value;
+    model_.cost[column] = value;
     simplex_->SetObjectiveCoefficient(column, value);
     clp_->SetObjectiveCoefficient(column, value);
   }
   void SetColumnBounds(int column, double lower, double upper) override {
-    lower_[column] = lower;
-    upper_[column] = upper;
+    model_.lower[column] = lower;
+    model_.upper[column] = upper;
     simplex_->SetColumnBounds(column, lower, upper);
     clp_->SetColumnBounds(column, lower, upper);
   }
   void SetRowBounds(int row, double lower, double upper) override {
-    rows_[row].lower = lower;
-    rows_[row].upper = upper;
+    model_.rows[row].lower = lower;
+    model_.rows[row].upper = upper;
     simplex_->SetRowBounds(row, lower, upper);
     clp_->SetRowBounds(row, lower, upper);
   }
   void AddRows(const LpRowBatch& batch) override {
-    for (int i = 0; i < batch.size(); ++i) {
-      Row& row = rows_.emplace_back();
-      for (int32_t t = batch.starts()[i]; t < batch.starts()[i + 1]; ++t) {
-        row.terms.push_back({batch.columns()[t], batch.coefs()[t]});
-      }
-      row.lower = batch.lower()[i];
-      row.upper = batch.upper()[i];
-    }
+    model_.AddRows(batch);
     simplex_->AddRows(batch);
     clp_->AddRows(batch);
   }
@@ -478,7 +487,7 @@ class MirroredSheetLp : public SheetLp {
       // The warm CLP is wrong at times (it called feasible LPs infeasible): a fresh CLP on the
       // model as it stands decides.
       ++tally_->warm_clp_disagreements;
-      std::unique_ptr<SheetLp> fresh = FreshClp();
+      std::unique_ptr<SheetLp> fresh = model_.FreshClp();
       disagreement = Disagreement(ours, fresh->Solve(), *fresh);
     }
     if (!disagreement.empty() && tally_->disagreements++ == 0) {
@@ -491,12 +500,6 @@ class MirroredSheetLp : public SheetLp {
   std::span<const double> column_values() const override { return simplex_->column_values(); }
 
  private:
-  double Objective(std::span<const double> x) const {
-    double sum = 0;
-    for (size_t j = 0; j < x.size(); ++j) sum += cost_[j] * x[j];
-    return sum;
-  }
-
   // Empty if the two answers agree on feasibility and on the optimal objective.
   std::string Disagreement(const absl::StatusOr<LpOutcome>& ours,
                            const absl::StatusOr<LpOutcome>& theirs, const SheetLp& clp) const {
@@ -506,53 +509,17 @@ class MirroredSheetLp : public SheetLp {
       const std::span<const double> x =
           *ours == LpOutcome::kOptimal ? simplex_->column_values() : clp.column_values();
       return std::string("ours ") + name(*ours) + ", CLP " + name(*theirs) +
-             "; the optimal answer violates the model by " + std::to_string(Violation(x));
+             "; the optimal answer violates the model by " + std::to_string(model_.Violation(x));
     }
     if (*ours != LpOutcome::kOptimal) return "";
-    const double a = Objective(simplex_->column_values()), b = Objective(clp.column_values());
+    const double a = model_.Objective(simplex_->column_values()),
+                 b = model_.Objective(clp.column_values());
     if (std::abs(a - b) <= 1e-7 * (1 + std::abs(b))) return "";
     return "objective " + std::to_string(a) + " vs CLP " + std::to_string(b);
   }
 
-  std::unique_ptr<SheetLp> FreshClp() const {
-    std::unique_ptr<SheetLp> fresh = ClpSheetLpFactory()(num_columns());
-    LpRowBatch batch;
-    for (const Row& row : rows_) {
-      std::vector<int32_t> columns;
-      std::vector<double> coefs;
-      for (const auto& [column, coef] : row.terms) {
-        columns.push_back(column);
-        coefs.push_back(coef);
-      }
-      batch.Add(columns, coefs, row.lower, row.upper);
-    }
-    fresh->AddRows(batch);
-    for (int j = 0; j < num_columns(); ++j) {
-      fresh->SetObjectiveCoefficient(j, cost_[j]);
-      fresh->SetColumnBounds(j, lower_[j], upper_[j]);
-    }
-    return fresh;
-  }
-
-  double Violation(std::span<const double> x) const {
-    double worst = 0;
-    for (size_t j = 0; j < x.size(); ++j)
-      worst = std::max({worst, lower_[j] - x[j], x[j] - upper_[j]});
-    for (const Row& row : rows_) {
-      double activity = 0;
-      for (const auto& [column, coef] : row.terms) activity += coef * x[column];
-      worst = std::max({worst, row.lower - activity, activity - row.upper});
-    }
-    return worst;
-  }
-
-  struct Row {
-    std::vector<std::pair<int32_t, double>> terms;
-    double lower, upper;
-  };
   std::unique_ptr<SheetLp> simplex_, clp_;
-  std::vector<double> cost_, lower_, upper_;
-  std::vector<Row> rows_;
+  LpModelCopy model_;
   Tally* tally_;
 };
 
