@@ -8,8 +8,8 @@
 // fixed number of threads takes that work from a bounded FIFO; when it is full, the request is
 // refused at once (RESOURCE_EXHAUSTED, decided on gRPC's thread without parsing). Tasks must not
 // block on anything but CPU. The destructor runs the tasks still waiting, then joins.
-#ifndef ISPQ_SERVER_ADMISSION_POOL_H_
-#define ISPQ_SERVER_ADMISSION_POOL_H_
+#ifndef ISPQ_SERVER_ADMISSION_ADMISSION_POOL_H_
+#define ISPQ_SERVER_ADMISSION_ADMISSION_POOL_H_
 
 #include <deque>
 #include <thread>
@@ -50,4 +50,4 @@ class AdmissionPool {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_ADMISSION_POOL_H_
+#endif  // ISPQ_SERVER_ADMISSION_ADMISSION_POOL_H_

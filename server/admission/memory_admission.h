@@ -5,8 +5,8 @@
 // left is it refused: RESOURCE_EXHAUSTED with a retry hint (server/jobs/retry_hint.h), or without one
 // when the claim is larger than the whole budget and could never fit. Refusals and evictions are
 // counted in the server metrics. Thread-safe.
-#ifndef ISPQ_SERVER_MEMORY_ADMISSION_H_
-#define ISPQ_SERVER_MEMORY_ADMISSION_H_
+#ifndef ISPQ_SERVER_ADMISSION_MEMORY_ADMISSION_H_
+#define ISPQ_SERVER_ADMISSION_MEMORY_ADMISSION_H_
 
 #include <cstdint>
 
@@ -46,4 +46,4 @@ class MemoryAdmission {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MEMORY_ADMISSION_H_
+#endif  // ISPQ_SERVER_ADMISSION_MEMORY_ADMISSION_H_

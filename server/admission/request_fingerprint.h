@@ -2,8 +2,8 @@
 // A fingerprint of a request, to tell a retried SubmitJob (the same request again) from a
 // different request that reuses a request_id (server/admission/request_ids.h): the SHA-256 of the request's
 // deterministic serialization, computed while serializing without building the bytes.
-#ifndef ISPQ_SERVER_REQUEST_FINGERPRINT_H_
-#define ISPQ_SERVER_REQUEST_FINGERPRINT_H_
+#ifndef ISPQ_SERVER_ADMISSION_REQUEST_FINGERPRINT_H_
+#define ISPQ_SERVER_ADMISSION_REQUEST_FINGERPRINT_H_
 
 #include <string>
 
@@ -17,4 +17,4 @@ std::string RequestFingerprint(const google::protobuf::MessageLite& message);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_REQUEST_FINGERPRINT_H_
+#endif  // ISPQ_SERVER_ADMISSION_REQUEST_FINGERPRINT_H_

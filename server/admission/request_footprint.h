@@ -9,8 +9,8 @@
 // generated class size of every message, the pointer slots of repeated fields with their growth,
 // string objects and their contents, unknown fields, plus the allocator's per-block overhead. It
 // errs on the high side (tests/server compares it with protobuf's own SpaceUsedLong).
-#ifndef ISPQ_SERVER_REQUEST_FOOTPRINT_H_
-#define ISPQ_SERVER_REQUEST_FOOTPRINT_H_
+#ifndef ISPQ_SERVER_ADMISSION_REQUEST_FOOTPRINT_H_
+#define ISPQ_SERVER_ADMISSION_REQUEST_FOOTPRINT_H_
 
 #include <cstdint>
 
@@ -31,4 +31,4 @@ absl::StatusOr<int64_t> EstimateParsedBytes(const google::protobuf::Descriptor& 
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_REQUEST_FOOTPRINT_H_
+#endif  // ISPQ_SERVER_ADMISSION_REQUEST_FOOTPRINT_H_

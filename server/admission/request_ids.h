@@ -9,8 +9,8 @@
 // id with a different request fingerprint (server/admission/request_fingerprint.h) is ALREADY_EXISTS. An id
 // is remembered as long as the server retains its job; forgotten entries are swept as the
 // table grows, so its size follows the retained jobs. Thread-safe; callbacks run without locks.
-#ifndef ISPQ_SERVER_REQUEST_IDS_H_
-#define ISPQ_SERVER_REQUEST_IDS_H_
+#ifndef ISPQ_SERVER_ADMISSION_REQUEST_IDS_H_
+#define ISPQ_SERVER_ADMISSION_REQUEST_IDS_H_
 
 #include <functional>
 #include <memory>
@@ -72,4 +72,4 @@ class RequestIds {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_REQUEST_IDS_H_
+#endif  // ISPQ_SERVER_ADMISSION_REQUEST_IDS_H_

@@ -11,8 +11,8 @@
 //   * Neither: every caller is the anonymous principal "".
 // Principals listed in --admin_principals are admins. Health checking and reflection are not
 // Quantizer calls and stay open (orchestrators probe them without credentials).
-#ifndef ISPQ_SERVER_AUTHENTICATOR_H_
-#define ISPQ_SERVER_AUTHENTICATOR_H_
+#ifndef ISPQ_SERVER_AUTH_AUTHENTICATOR_H_
+#define ISPQ_SERVER_AUTH_AUTHENTICATOR_H_
 
 #include <string>
 #include <string_view>
@@ -61,4 +61,4 @@ class Authenticator {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_AUTHENTICATOR_H_
+#endif  // ISPQ_SERVER_AUTH_AUTHENTICATOR_H_

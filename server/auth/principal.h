@@ -3,8 +3,8 @@
 // visible only to that principal (its name in Job.owner and Mesh.owner) and to admin principals,
 // which see and act on everything. Without authentication every caller is the same anonymous
 // principal "", so everything is visible to everyone, as before principals existed.
-#ifndef ISPQ_SERVER_PRINCIPAL_H_
-#define ISPQ_SERVER_PRINCIPAL_H_
+#ifndef ISPQ_SERVER_AUTH_PRINCIPAL_H_
+#define ISPQ_SERVER_AUTH_PRINCIPAL_H_
 
 #include <string>
 #include <string_view>
@@ -21,4 +21,4 @@ struct Principal {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_PRINCIPAL_H_
+#endif  // ISPQ_SERVER_AUTH_PRINCIPAL_H_

@@ -8,8 +8,8 @@
 //   pipeline     3a9e55d1c2b04c83b1f0
 //
 // The single-token flags (--auth_token, --auth_token_file) are one principal named "default".
-#ifndef ISPQ_SERVER_PRINCIPAL_TOKENS_H_
-#define ISPQ_SERVER_PRINCIPAL_TOKENS_H_
+#ifndef ISPQ_SERVER_AUTH_PRINCIPAL_TOKENS_H_
+#define ISPQ_SERVER_AUTH_PRINCIPAL_TOKENS_H_
 
 #include <string>
 #include <vector>
@@ -31,4 +31,4 @@ absl::StatusOr<std::vector<PrincipalToken>> ParsePrincipalTokens(absl::string_vi
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_PRINCIPAL_TOKENS_H_
+#endif  // ISPQ_SERVER_AUTH_PRINCIPAL_TOKENS_H_

@@ -3,8 +3,8 @@
 // (the canonical codes are the same numbers in both libraries) and, for a status with a retry
 // hint (server/jobs/retry_hint.h), the `grpc-retry-pushback-ms` trailer of gRFC A6, which gRPC clients
 // with a retry policy honour.
-#ifndef ISPQ_SERVER_GRPC_STATUS_H_
-#define ISPQ_SERVER_GRPC_STATUS_H_
+#ifndef ISPQ_SERVER_GRPC_GRPC_STATUS_H_
+#define ISPQ_SERVER_GRPC_GRPC_STATUS_H_
 
 #include <optional>
 #include <string>
@@ -35,4 +35,4 @@ inline grpc::Status ToGrpcStatus(const absl::Status& status, grpc::ServerContext
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_GRPC_STATUS_H_
+#endif  // ISPQ_SERVER_GRPC_GRPC_STATUS_H_

@@ -19,8 +19,8 @@
 // is finished. Every decision is taken under the stream's mutex and every gRPC operation is
 // started after releasing it, so a reaction that gRPC runs inline cannot deadlock. The event in
 // flight is accounted in the memory budget as a response.
-#ifndef ISPQ_SERVER_JOB_EVENT_STREAM_H_
-#define ISPQ_SERVER_JOB_EVENT_STREAM_H_
+#ifndef ISPQ_SERVER_GRPC_JOB_EVENT_STREAM_H_
+#define ISPQ_SERVER_GRPC_JOB_EVENT_STREAM_H_
 
 #include <cstdint>
 #include <memory>
@@ -86,4 +86,4 @@ class JobEventStream : public grpc::ServerWriteReactor<grpc::ByteBuffer>,
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_EVENT_STREAM_H_
+#endif  // ISPQ_SERVER_GRPC_JOB_EVENT_STREAM_H_

@@ -13,8 +13,8 @@
 //
 // Methods are registered raw (see server/grpc/raw_proto_call.h) so that a request that does not
 // parse is INVALID_ARGUMENT.
-#ifndef ISPQ_SERVER_QUANTIZER_SERVICE_H_
-#define ISPQ_SERVER_QUANTIZER_SERVICE_H_
+#ifndef ISPQ_SERVER_GRPC_QUANTIZER_SERVICE_H_
+#define ISPQ_SERVER_GRPC_QUANTIZER_SERVICE_H_
 
 #include <optional>
 
@@ -106,4 +106,4 @@ class QuantizerService final : public RawQuantizerService {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_QUANTIZER_SERVICE_H_
+#endif  // ISPQ_SERVER_GRPC_QUANTIZER_SERVICE_H_

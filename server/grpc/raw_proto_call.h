@@ -5,8 +5,8 @@
 // not a protobuf message gets: with typed callback methods gRPC 1.51 answers UNIMPLEMENTED with
 // an empty message, which tells a client nothing. Here it is INVALID_ARGUMENT naming the
 // message type that was expected (requests are parsed by server/admission/raw_request.h).
-#ifndef ISPQ_SERVER_RAW_PROTO_CALL_H_
-#define ISPQ_SERVER_RAW_PROTO_CALL_H_
+#ifndef ISPQ_SERVER_GRPC_RAW_PROTO_CALL_H_
+#define ISPQ_SERVER_GRPC_RAW_PROTO_CALL_H_
 
 #include "google/protobuf/message_lite.h"
 #include "grpcpp/impl/codegen/proto_utils.h"
@@ -19,4 +19,4 @@ grpc::Status SerializeMessage(const google::protobuf::MessageLite& message, grpc
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_RAW_PROTO_CALL_H_
+#endif  // ISPQ_SERVER_GRPC_RAW_PROTO_CALL_H_

@@ -6,8 +6,8 @@
 // The request is taken out of the call because gRPC would otherwise keep its bytes until the call
 // ends, which for Quantize is when the job ends; the handler's request object is constructed and
 // destroyed by gRPC and is ours to consume in between.
-#ifndef ISPQ_SERVER_REQUEST_INTAKE_H_
-#define ISPQ_SERVER_REQUEST_INTAKE_H_
+#ifndef ISPQ_SERVER_GRPC_REQUEST_INTAKE_H_
+#define ISPQ_SERVER_GRPC_REQUEST_INTAKE_H_
 
 #include <cstdint>
 
@@ -26,4 +26,4 @@ absl::StatusOr<RawRequest> TakeRequest(const grpc::ByteBuffer* request, int64_t 
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_REQUEST_INTAKE_H_
+#endif  // ISPQ_SERVER_GRPC_REQUEST_INTAKE_H_

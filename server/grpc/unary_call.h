@@ -6,8 +6,8 @@
 //
 // Created by a method handler and returned to gRPC as the call's reactor; deletes itself when
 // gRPC is done with the call. Exactly one of Fail and Answer must be called, once.
-#ifndef ISPQ_SERVER_UNARY_CALL_H_
-#define ISPQ_SERVER_UNARY_CALL_H_
+#ifndef ISPQ_SERVER_GRPC_UNARY_CALL_H_
+#define ISPQ_SERVER_GRPC_UNARY_CALL_H_
 
 #include "absl/status/status.h"
 #include "google/protobuf/message_lite.h"
@@ -42,4 +42,4 @@ class UnaryCall final : public grpc::ServerUnaryReactor {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_UNARY_CALL_H_
+#endif  // ISPQ_SERVER_GRPC_UNARY_CALL_H_

@@ -9,8 +9,8 @@
 // reservation, as on its first admission): a job this replica cannot hold now (memory) is given
 // back for another replica; one whose request no longer admits (its stored mesh was deleted)
 // ends FAILED with the reason. Thread-safe; one Next per worker thread.
-#ifndef ISPQ_SERVER_JOB_CLAIMER_H_
-#define ISPQ_SERVER_JOB_CLAIMER_H_
+#ifndef ISPQ_SERVER_JOBS_JOB_CLAIMER_H_
+#define ISPQ_SERVER_JOBS_JOB_CLAIMER_H_
 
 #include <functional>
 #include <memory>
@@ -55,4 +55,4 @@ class JobClaimer final : public JobSource {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_CLAIMER_H_
+#endif  // ISPQ_SERVER_JOBS_JOB_CLAIMER_H_

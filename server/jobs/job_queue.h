@@ -4,8 +4,8 @@
 // It also counts the jobs workers hold (popped and not yet marked done), so that "nothing queued
 // and nothing running" is one atomic observation, which graceful shutdown waits for. Closing the
 // queue refuses new jobs and lets workers exit once it is empty. Thread-safe.
-#ifndef ISPQ_SERVER_JOB_QUEUE_H_
-#define ISPQ_SERVER_JOB_QUEUE_H_
+#ifndef ISPQ_SERVER_JOBS_JOB_QUEUE_H_
+#define ISPQ_SERVER_JOBS_JOB_QUEUE_H_
 
 #include <deque>
 #include <memory>
@@ -63,4 +63,4 @@ class JobQueue final : public JobSource {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_QUEUE_H_
+#endif  // ISPQ_SERVER_JOBS_JOB_QUEUE_H_

@@ -5,8 +5,8 @@
 //
 // Never throws and never crashes the server on a failing solve: a solver error or exception
 // ends the job FAILED with INTERNAL and the reason.
-#ifndef ISPQ_SERVER_JOB_RUNNER_H_
-#define ISPQ_SERVER_JOB_RUNNER_H_
+#ifndef ISPQ_SERVER_JOBS_JOB_RUNNER_H_
+#define ISPQ_SERVER_JOBS_JOB_RUNNER_H_
 
 #include "server/metrics/server_metrics.h"
 #include "server/model/job.h"
@@ -18,4 +18,4 @@ void RunJob(Job& job, ServerMetrics& metrics);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_RUNNER_H_
+#endif  // ISPQ_SERVER_JOBS_JOB_RUNNER_H_

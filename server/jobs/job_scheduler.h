@@ -11,8 +11,8 @@
 //
 // Ownership: the scheduler owns the store, the queue, the claimer and the pool; jobs are shared
 // with the streams that watch them. Destruction closes the queue and joins the workers.
-#ifndef ISPQ_SERVER_JOB_SCHEDULER_H_
-#define ISPQ_SERVER_JOB_SCHEDULER_H_
+#ifndef ISPQ_SERVER_JOBS_JOB_SCHEDULER_H_
+#define ISPQ_SERVER_JOBS_JOB_SCHEDULER_H_
 
 #include <memory>
 #include <string>
@@ -105,4 +105,4 @@ class JobScheduler {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_SCHEDULER_H_
+#endif  // ISPQ_SERVER_JOBS_JOB_SCHEDULER_H_

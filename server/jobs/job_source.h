@@ -2,8 +2,8 @@
 // Where the worker pool takes its jobs from: the local queue (server/jobs/job_queue.h) with the
 // in-memory store, or the claimer (server/jobs/job_claimer.h), which also claims jobs from a shared
 // store.
-#ifndef ISPQ_SERVER_JOB_SOURCE_H_
-#define ISPQ_SERVER_JOB_SOURCE_H_
+#ifndef ISPQ_SERVER_JOBS_JOB_SOURCE_H_
+#define ISPQ_SERVER_JOBS_JOB_SOURCE_H_
 
 #include <memory>
 
@@ -23,4 +23,4 @@ class JobSource {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_SOURCE_H_
+#endif  // ISPQ_SERVER_JOBS_JOB_SOURCE_H_

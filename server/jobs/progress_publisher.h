@@ -8,8 +8,8 @@
 // last one sent (a separating q beats any non-separating one; otherwise the lower objective
 // wins). It asks the solver for q (WantsQuantization) only when an intermediate event could be
 // sent, so that the O(arcs) copy is not paid otherwise. Used by one solve on one thread.
-#ifndef ISPQ_SERVER_PROGRESS_PUBLISHER_H_
-#define ISPQ_SERVER_PROGRESS_PUBLISHER_H_
+#ifndef ISPQ_SERVER_JOBS_PROGRESS_PUBLISHER_H_
+#define ISPQ_SERVER_JOBS_PROGRESS_PUBLISHER_H_
 
 #include <chrono>
 #include <optional>
@@ -47,4 +47,4 @@ class ProgressPublisher : public ProgressObserver {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_PROGRESS_PUBLISHER_H_
+#endif  // ISPQ_SERVER_JOBS_PROGRESS_PUBLISHER_H_

@@ -3,8 +3,8 @@
 // the memory budget) to where it is sent (the service adds the `grpc-retry-pushback-ms` trailer
 // of gRFC A6, which gRPC clients with a retry policy honour). The hint also appears in the
 // message ("retry in N ms") for people and for clients without a retry policy.
-#ifndef ISPQ_SERVER_RETRY_HINT_H_
-#define ISPQ_SERVER_RETRY_HINT_H_
+#ifndef ISPQ_SERVER_JOBS_RETRY_HINT_H_
+#define ISPQ_SERVER_JOBS_RETRY_HINT_H_
 
 #include <optional>
 
@@ -22,4 +22,4 @@ std::optional<absl::Duration> RetryHintOf(const absl::Status& status);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_RETRY_HINT_H_
+#endif  // ISPQ_SERVER_JOBS_RETRY_HINT_H_

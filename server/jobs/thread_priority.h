@@ -7,8 +7,8 @@
 // probes taking over 100 ms during a burst of large requests). Lower priority for the CPU-bound
 // threads lets gRPC's threads run first whenever they are ready, at no cost to throughput when
 // they are idle.
-#ifndef ISPQ_SERVER_THREAD_PRIORITY_H_
-#define ISPQ_SERVER_THREAD_PRIORITY_H_
+#ifndef ISPQ_SERVER_JOBS_THREAD_PRIORITY_H_
+#define ISPQ_SERVER_JOBS_THREAD_PRIORITY_H_
 
 namespace ispq::server {
 
@@ -18,4 +18,4 @@ void LowerCurrentThreadPriority();
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_THREAD_PRIORITY_H_
+#endif  // ISPQ_SERVER_JOBS_THREAD_PRIORITY_H_

@@ -3,8 +3,8 @@
 // to its end (server/jobs/job_runner.h), from a JobSource (server/jobs/job_source.h). A job never uses more
 // than its one worker thread, so the pool's size is the number of solves that run at once. Threads
 // exit when the queue is closed and empty; the destructor joins them.
-#ifndef ISPQ_SERVER_WORKER_POOL_H_
-#define ISPQ_SERVER_WORKER_POOL_H_
+#ifndef ISPQ_SERVER_JOBS_WORKER_POOL_H_
+#define ISPQ_SERVER_JOBS_WORKER_POOL_H_
 
 #include <thread>
 #include <vector>
@@ -35,4 +35,4 @@ class WorkerPool {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_WORKER_POOL_H_
+#endif  // ISPQ_SERVER_JOBS_WORKER_POOL_H_

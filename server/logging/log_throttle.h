@@ -9,8 +9,8 @@
 //   if (const auto held_back = claim_failures_.Admit()) spdlog::warn("... suppressed={}",
 //   *held_back);
 // Thread-safe.
-#ifndef ISPQ_SERVER_LOG_THROTTLE_H_
-#define ISPQ_SERVER_LOG_THROTTLE_H_
+#ifndef ISPQ_SERVER_LOGGING_LOG_THROTTLE_H_
+#define ISPQ_SERVER_LOGGING_LOG_THROTTLE_H_
 
 #include <cstdint>
 #include <optional>
@@ -39,4 +39,4 @@ class LogThrottle {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_LOG_THROTTLE_H_
+#endif  // ISPQ_SERVER_LOGGING_LOG_THROTTLE_H_

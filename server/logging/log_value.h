@@ -2,8 +2,8 @@
 // How a client-controlled string (a mesh name, an error message) appears in a structured log
 // line: in double quotes, with quotes, backslashes and control characters escaped and long
 // values cut, so that no client can forge or break up log lines.
-#ifndef ISPQ_SERVER_LOG_VALUE_H_
-#define ISPQ_SERVER_LOG_VALUE_H_
+#ifndef ISPQ_SERVER_LOGGING_LOG_VALUE_H_
+#define ISPQ_SERVER_LOGGING_LOG_VALUE_H_
 
 #include <string>
 
@@ -13,4 +13,4 @@ std::string QuotedLogValue(const std::string& value);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_LOG_VALUE_H_
+#endif  // ISPQ_SERVER_LOGGING_LOG_VALUE_H_

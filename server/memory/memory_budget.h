@@ -10,8 +10,8 @@
 // stored entry and a running job is released when the last of them lets go). TryReserve refuses
 // what does not fit; ForceReserve records memory that exists already or must be kept (a received
 // request, a finished job's result), which later admissions then see as used. Thread-safe.
-#ifndef ISPQ_SERVER_MEMORY_BUDGET_H_
-#define ISPQ_SERVER_MEMORY_BUDGET_H_
+#ifndef ISPQ_SERVER_MEMORY_MEMORY_BUDGET_H_
+#define ISPQ_SERVER_MEMORY_MEMORY_BUDGET_H_
 
 #include <array>
 #include <cstdint>
@@ -92,4 +92,4 @@ class MemoryBudget {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MEMORY_BUDGET_H_
+#endif  // ISPQ_SERVER_MEMORY_MEMORY_BUDGET_H_

@@ -39,8 +39,8 @@
 // bound: up to 15 MB on real meshes of 300 arcs and 23 KB per arc on a 30k-arc assembly (697 MB,
 // optimal after 33 s); its tree grows with the time it runs, so those two terms are a margin
 // over what was seen rather than a bound.
-#ifndef ISPQ_SERVER_JOB_MEMORY_H_
-#define ISPQ_SERVER_JOB_MEMORY_H_
+#ifndef ISPQ_SERVER_MEMORY_MEMORY_ESTIMATES_H_
+#define ISPQ_SERVER_MEMORY_MEMORY_ESTIMATES_H_
 
 #include <cstdint>
 
@@ -84,4 +84,4 @@ int64_t RetainedJobBytes(const v1::QuantizationResult* result);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_MEMORY_H_
+#endif  // ISPQ_SERVER_MEMORY_MEMORY_ESTIMATES_H_

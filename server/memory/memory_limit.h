@@ -6,8 +6,8 @@
 // memory.limit_in_bytes of the process's own cgroup, or of its ancestors) when there is one, else
 // half of the physical memory: the rest covers what the budget does not account (the process's
 // base, allocator slack, the solver's peaks above the estimate).
-#ifndef ISPQ_SERVER_MEMORY_LIMIT_H_
-#define ISPQ_SERVER_MEMORY_LIMIT_H_
+#ifndef ISPQ_SERVER_MEMORY_MEMORY_LIMIT_H_
+#define ISPQ_SERVER_MEMORY_MEMORY_LIMIT_H_
 
 #include <cstdint>
 #include <optional>
@@ -29,4 +29,4 @@ int64_t DefaultMemoryBudget();
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MEMORY_LIMIT_H_
+#endif  // ISPQ_SERVER_MEMORY_MEMORY_LIMIT_H_

@@ -8,8 +8,8 @@
 // 13 MB per job to 1.7 GB while the heap in use stayed below 10 MB, and the memory budget, which
 // accounts what is in use, could not see it. malloc_trim releases the free pages inside the heaps
 // too; it costs about 10 ms after such a job and 0.1 ms after a small one.
-#ifndef ISPQ_SERVER_MEMORY_RELEASE_H_
-#define ISPQ_SERVER_MEMORY_RELEASE_H_
+#ifndef ISPQ_SERVER_MEMORY_MEMORY_RELEASE_H_
+#define ISPQ_SERVER_MEMORY_MEMORY_RELEASE_H_
 
 namespace ispq::server {
 
@@ -18,4 +18,4 @@ void ReleaseFreedMemory();
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MEMORY_RELEASE_H_
+#endif  // ISPQ_SERVER_MEMORY_MEMORY_RELEASE_H_

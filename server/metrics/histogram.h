@@ -2,8 +2,8 @@
 // A fixed-bucket histogram of durations in seconds, exported as a cumulative (Prometheus-style)
 // ispq.v1.Histogram. Buckets are chosen once for the whole server: quantization times range
 // from milliseconds (small meshes) to the job time limit. Thread-safe.
-#ifndef ISPQ_SERVER_HISTOGRAM_H_
-#define ISPQ_SERVER_HISTOGRAM_H_
+#ifndef ISPQ_SERVER_METRICS_HISTOGRAM_H_
+#define ISPQ_SERVER_METRICS_HISTOGRAM_H_
 
 #include <cstdint>
 #include <vector>
@@ -35,4 +35,4 @@ class Histogram {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_HISTOGRAM_H_
+#endif  // ISPQ_SERVER_METRICS_HISTOGRAM_H_

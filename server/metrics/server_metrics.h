@@ -5,8 +5,8 @@
 //
 // Gauges that describe the present (queue length, busy workers, retained jobs by state) are not
 // kept here: they are read from their owners when the stats are requested.
-#ifndef ISPQ_SERVER_SERVER_METRICS_H_
-#define ISPQ_SERVER_SERVER_METRICS_H_
+#ifndef ISPQ_SERVER_METRICS_SERVER_METRICS_H_
+#define ISPQ_SERVER_METRICS_SERVER_METRICS_H_
 
 #include <atomic>
 #include <cstdint>
@@ -53,4 +53,4 @@ class ServerMetrics {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_SERVER_METRICS_H_
+#endif  // ISPQ_SERVER_METRICS_SERVER_METRICS_H_

@@ -17,8 +17,8 @@
 // event sink; a job a replica claimed from the store and runs (Resume), recorded the same way; or a
 // mirror (Mirror) that answers lookups and feeds watchers on any replica and changes only by
 // ApplyStored, with what the store says.
-#ifndef ISPQ_SERVER_JOB_H_
-#define ISPQ_SERVER_JOB_H_
+#ifndef ISPQ_SERVER_MODEL_JOB_H_
+#define ISPQ_SERVER_MODEL_JOB_H_
 
 #include <cstdint>
 #include <memory>
@@ -175,4 +175,4 @@ class Job {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_H_
+#endif  // ISPQ_SERVER_MODEL_JOB_H_

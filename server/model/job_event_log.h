@@ -9,8 +9,8 @@
 // intermediate quantization, which the result supersedes. A reader asking for event n gets the
 // first kept event numbered n or more; numbers only increase along a stream, with gaps where
 // snapshots were superseded. Not thread-safe: the owning Job guards it.
-#ifndef ISPQ_SERVER_JOB_EVENT_LOG_H_
-#define ISPQ_SERVER_JOB_EVENT_LOG_H_
+#ifndef ISPQ_SERVER_MODEL_JOB_EVENT_LOG_H_
+#define ISPQ_SERVER_MODEL_JOB_EVENT_LOG_H_
 
 #include <cstdint>
 #include <vector>
@@ -47,4 +47,4 @@ class JobEventLog {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_EVENT_LOG_H_
+#endif  // ISPQ_SERVER_MODEL_JOB_EVENT_LOG_H_

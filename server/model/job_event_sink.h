@@ -4,8 +4,8 @@
 // creates or runs, so that every replica can answer about them and watch them.
 //
 // The in-memory store needs none: it holds the job objects themselves.
-#ifndef ISPQ_SERVER_JOB_EVENT_SINK_H_
-#define ISPQ_SERVER_JOB_EVENT_SINK_H_
+#ifndef ISPQ_SERVER_MODEL_JOB_EVENT_SINK_H_
+#define ISPQ_SERVER_MODEL_JOB_EVENT_SINK_H_
 
 #include "ispq/v1/service.pb.h"
 
@@ -27,4 +27,4 @@ class JobEventSink {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_EVENT_SINK_H_
+#endif  // ISPQ_SERVER_MODEL_JOB_EVENT_SINK_H_

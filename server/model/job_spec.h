@@ -4,8 +4,8 @@
 // report, who asked, and the memory reserved for it. It is built, and everything a client can get
 // wrong rejected, by server/admission/job_admission.h, before the job exists, so that a worker
 // never meets bad input.
-#ifndef ISPQ_SERVER_JOB_SPEC_H_
-#define ISPQ_SERVER_JOB_SPEC_H_
+#ifndef ISPQ_SERVER_MODEL_JOB_SPEC_H_
+#define ISPQ_SERVER_MODEL_JOB_SPEC_H_
 
 #include <memory>
 #include <string>
@@ -45,4 +45,4 @@ struct JobSpec {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_SPEC_H_
+#endif  // ISPQ_SERVER_MODEL_JOB_SPEC_H_

@@ -8,8 +8,8 @@
 //
 // The admitted mesh carries the memory reservation made for it (server/memory/memory_budget.h) in its
 // shared ownership: the bytes are released when the last job or store entry lets go of the mesh.
-#ifndef ISPQ_SERVER_MESH_ADMISSION_H_
-#define ISPQ_SERVER_MESH_ADMISSION_H_
+#ifndef ISPQ_SERVER_MODEL_MESH_ADMISSION_H_
+#define ISPQ_SERVER_MODEL_MESH_ADMISSION_H_
 
 #include <memory>
 
@@ -36,4 +36,4 @@ absl::StatusOr<AdmittedMesh> AdmitMesh(const v1::TMesh& proto, int max_arcs,
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MESH_ADMISSION_H_
+#endif  // ISPQ_SERVER_MODEL_MESH_ADMISSION_H_

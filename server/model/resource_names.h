@@ -5,8 +5,8 @@
 // are not reused while a server runs. Parsing accepts any AIP-122 style id (lowercase letters,
 // digits and '-', at most 63 characters) and leaves existence to the stores, so a well-formed
 // name that was never issued is NOT_FOUND while a malformed one is INVALID_ARGUMENT.
-#ifndef ISPQ_SERVER_RESOURCE_NAMES_H_
-#define ISPQ_SERVER_RESOURCE_NAMES_H_
+#ifndef ISPQ_SERVER_MODEL_RESOURCE_NAMES_H_
+#define ISPQ_SERVER_MODEL_RESOURCE_NAMES_H_
 
 #include <string>
 
@@ -29,4 +29,4 @@ absl::StatusOr<std::string> ParseResourceName(const char* collection, const std:
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_RESOURCE_NAMES_H_
+#endif  // ISPQ_SERVER_MODEL_RESOURCE_NAMES_H_

@@ -3,8 +3,8 @@
 // order. Pruning happens on each access, so no timer thread is needed and memory is bounded by
 // the queue, the workers and the retention policy; the memory budget may also evict the
 // oldest-ended job early (EvictOldestFinished). Nothing survives the process.
-#ifndef ISPQ_SERVER_IN_MEMORY_JOB_STORE_H_
-#define ISPQ_SERVER_IN_MEMORY_JOB_STORE_H_
+#ifndef ISPQ_SERVER_STORE_IN_MEMORY_JOB_STORE_H_
+#define ISPQ_SERVER_STORE_IN_MEMORY_JOB_STORE_H_
 
 #include <cstdint>
 #include <memory>
@@ -47,4 +47,4 @@ class InMemoryJobStore final : public JobStore {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_IN_MEMORY_JOB_STORE_H_
+#endif  // ISPQ_SERVER_STORE_IN_MEMORY_JOB_STORE_H_

@@ -5,8 +5,8 @@
 // whoever claims it: quantization is deterministic, so the result is the same. Each claim has
 // an attempt number, and everything done under a claim (recording, giving back, failing) is
 // fenced by it: a replica whose claim was superseded changes nothing.
-#ifndef ISPQ_SERVER_JOB_CLAIMS_H_
-#define ISPQ_SERVER_JOB_CLAIMS_H_
+#ifndef ISPQ_SERVER_STORE_JOB_CLAIMS_H_
+#define ISPQ_SERVER_STORE_JOB_CLAIMS_H_
 
 #include <cstdint>
 #include <functional>
@@ -58,4 +58,4 @@ class JobClaims {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_CLAIMS_H_
+#endif  // ISPQ_SERVER_STORE_JOB_CLAIMS_H_

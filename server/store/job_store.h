@@ -10,8 +10,8 @@
 //     workers under a lease (server/jobs/job_claimer.h).
 //
 // Both are thread-safe. Times are passed in, so that retention is testable.
-#ifndef ISPQ_SERVER_JOB_STORE_H_
-#define ISPQ_SERVER_JOB_STORE_H_
+#ifndef ISPQ_SERVER_STORE_JOB_STORE_H_
+#define ISPQ_SERVER_STORE_JOB_STORE_H_
 
 #include <functional>
 #include <memory>
@@ -90,4 +90,4 @@ class JobStore {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_JOB_STORE_H_
+#endif  // ISPQ_SERVER_STORE_JOB_STORE_H_

@@ -10,8 +10,8 @@
 //
 // Two implementations: InMemoryMeshStore below (the default) and PostgresMeshStore
 // (server/store/postgres/postgres_mesh_store.h), which every replica sharing the database sees.
-#ifndef ISPQ_SERVER_MESH_STORE_H_
-#define ISPQ_SERVER_MESH_STORE_H_
+#ifndef ISPQ_SERVER_STORE_MESH_STORE_H_
+#define ISPQ_SERVER_STORE_MESH_STORE_H_
 
 #include <list>
 #include <memory>
@@ -78,4 +78,4 @@ class InMemoryMeshStore final : public MeshStore {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_MESH_STORE_H_
+#endif  // ISPQ_SERVER_STORE_MESH_STORE_H_

@@ -24,8 +24,8 @@
 // Draining (shutdown): a run interrupted by the shutdown is given back to the queue (state
 // QUEUED, no lease owner, fenced the same way) instead of ending, so that another replica runs
 // it; a run whose job a client cancelled meanwhile ends CANCELLED instead.
-#ifndef ISPQ_SERVER_POSTGRES_JOB_RECORDER_H_
-#define ISPQ_SERVER_POSTGRES_JOB_RECORDER_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_RECORDER_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_RECORDER_H_
 
 #include <array>
 #include <atomic>
@@ -121,4 +121,4 @@ class PostgresJobRecorder final : public JobEventSink {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_JOB_RECORDER_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_RECORDER_H_

@@ -2,8 +2,8 @@
 // Reading and writing the rows of one job in the PostgreSQL job store (server/store/postgres/postgres_schema.h),
 // inside a transaction the caller owns: the pieces that the store, its recorder and its claims
 // share.
-#ifndef ISPQ_SERVER_POSTGRES_JOB_ROWS_H_
-#define ISPQ_SERVER_POSTGRES_JOB_ROWS_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_ROWS_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_ROWS_H_
 
 #include <optional>
 #include <string>
@@ -62,4 +62,4 @@ void PruneFinishedJobs(pqxx::work& work, const RetentionPolicy& policy, absl::Ti
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_JOB_ROWS_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_ROWS_H_

@@ -31,8 +31,8 @@
 // Ownership: the store owns its connection pool (shared with the recorder that the jobs it
 // records hold), its recorder's writer, its listener, its probe and its lease thread; mirrors
 // and local jobs are held weakly.
-#ifndef ISPQ_SERVER_POSTGRES_JOB_STORE_H_
-#define ISPQ_SERVER_POSTGRES_JOB_STORE_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_STORE_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_STORE_H_
 
 #include <functional>
 #include <memory>
@@ -154,4 +154,4 @@ class PostgresJobStore final : public JobStore, public JobClaims {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_JOB_STORE_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_STORE_H_

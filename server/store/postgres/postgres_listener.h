@@ -7,8 +7,8 @@
 // While the database is down, reconnection attempts back off exponentially (0.1 s doubling to
 // 10 s, with jitter so that replicas do not reconnect in step) and their failures are logged at
 // most every 10 s: the loop must cost neither CPU nor log volume during an outage.
-#ifndef ISPQ_SERVER_POSTGRES_LISTENER_H_
-#define ISPQ_SERVER_POSTGRES_LISTENER_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_LISTENER_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_LISTENER_H_
 
 #include <functional>
 #include <string>
@@ -49,4 +49,4 @@ class PostgresListener {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_LISTENER_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_LISTENER_H_

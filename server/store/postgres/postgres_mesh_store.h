@@ -8,8 +8,8 @@
 // The count limit (--max_stored_meshes) holds for the whole database: beyond it, the least
 // recently used meshes are deleted. Memory-budget eviction has nothing to evict here: meshes are
 // not kept in this process. Thread-safe.
-#ifndef ISPQ_SERVER_POSTGRES_MESH_STORE_H_
-#define ISPQ_SERVER_POSTGRES_MESH_STORE_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_MESH_STORE_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_MESH_STORE_H_
 
 #include <memory>
 #include <string>
@@ -46,4 +46,4 @@ class PostgresMeshStore final : public MeshStore {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_MESH_STORE_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_MESH_STORE_H_

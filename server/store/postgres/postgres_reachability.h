@@ -7,8 +7,8 @@
 //
 // Transitions are logged once each (not every failed probe), and `on_recovered` runs on the
 // probe's thread when the database answers again, so that leases are renewed at once.
-#ifndef ISPQ_SERVER_POSTGRES_REACHABILITY_H_
-#define ISPQ_SERVER_POSTGRES_REACHABILITY_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_REACHABILITY_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_REACHABILITY_H_
 
 #include <atomic>
 #include <functional>
@@ -50,4 +50,4 @@ class PostgresReachability {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_REACHABILITY_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_REACHABILITY_H_

@@ -15,8 +15,8 @@
 //   ispq_job_events  the kept events of each job, at most one per kind (accepted, latest
 //                    progress, latest intermediate, terminal): the bound of server/model/job_event_log.h.
 //   ispq_meshes      stored meshes (CreateMesh): the serialized ispq.v1.TMesh and its stats.
-#ifndef ISPQ_SERVER_POSTGRES_SCHEMA_H_
-#define ISPQ_SERVER_POSTGRES_SCHEMA_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_SCHEMA_H_
+#define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_SCHEMA_H_
 
 #include "absl/status/status.h"
 #include "server/store/postgres/postgres_connections.h"
@@ -34,4 +34,4 @@ absl::Status MigratePostgresSchema(PostgresConnections& connections);
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_POSTGRES_SCHEMA_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_POSTGRES_SCHEMA_H_

@@ -11,8 +11,8 @@
 // until its owner closes it, so it can never be reused under the owner's feet.
 //
 // Thread-safe. Deadlines are checked every `resolution` (a tenth of a second by default).
-#ifndef ISPQ_SERVER_SOCKET_DEADLINES_H_
-#define ISPQ_SERVER_SOCKET_DEADLINES_H_
+#ifndef ISPQ_SERVER_STORE_POSTGRES_SOCKET_DEADLINES_H_
+#define ISPQ_SERVER_STORE_POSTGRES_SOCKET_DEADLINES_H_
 
 #include <cstdint>
 #include <thread>
@@ -64,4 +64,4 @@ class SocketDeadlines {
 
 }  // namespace ispq::server
 
-#endif  // ISPQ_SERVER_SOCKET_DEADLINES_H_
+#endif  // ISPQ_SERVER_STORE_POSTGRES_SOCKET_DEADLINES_H_
