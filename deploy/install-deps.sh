@@ -16,6 +16,7 @@ PACKAGES=(
   yamllint     # checks the Kubernetes manifests (tests/deploy)
   libmicrohttpd-dev  # the HTTP side of ispq-server (server/http/)
   chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
+  python3-grpcio python3-protobuf python3-pip python3-setuptools  # the Python client (client/python)
 )
 
 missing=()

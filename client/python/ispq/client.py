@@ -1,0 +1,278 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Client: every call of the ispq.v1.Quantizer service, over one gRPC channel.
+
+Meshes are given as an ispq.v1.TMesh, a path to a T-mesh file, or a stored mesh (the Mesh that
+create_mesh returned, or its name "meshes/{id}"); jobs as a Job or its name "jobs/{id}". The
+channel retries the idempotent calls on UNAVAILABLE as the C++ client does (gRPC's retry policy);
+submit() sends a request_id so that a retried submission returns the same job (AIP-155), and
+watch() resumes an interrupted stream from the last event it saw."""
+import json
+import os
+import time
+import uuid
+from typing import Callable, Iterator, Optional, Union
+
+import grpc
+from google.protobuf import duration_pb2
+
+from ispq.errors import IspqError
+from ispq.progress import Progress
+from ispq.results import QuantizeResult
+from ispq.tmesh_files import load_tmesh
+from ispq.v1 import quantization_pb2, service_pb2, service_pb2_grpc, tmesh_pb2
+
+MeshSource = Union[tmesh_pb2.TMesh, service_pb2.Mesh, str, "os.PathLike[str]"]
+JobRef = Union[service_pb2.Job, str]
+ProgressCallback = Callable[[Progress], None]
+
+# The C++ client's bound on one answer (client/server_connection.cc).
+MAX_RECEIVE_MESSAGE_BYTES = 256 << 20
+_RETRIED_METHODS = ["GetJob", "ListJobs", "CancelJob", "WatchJob", "GetMesh", "GetServerStats"]
+_METHODS = {"isp": quantization_pb2.METHOD_ISP, "exact": quantization_pb2.METHOD_EXACT}
+
+
+def _service_config(lb_policy: Optional[str]) -> str:
+    config = {"methodConfig": [{
+        "name": [{"service": "ispq.v1.Quantizer", "method": m} for m in _RETRIED_METHODS],
+        "retryPolicy": {"maxAttempts": 4, "initialBackoff": "0.1s", "maxBackoff": "2s",
+                        "backoffMultiplier": 2, "retryableStatusCodes": ["UNAVAILABLE"]}}]}
+    if lb_policy:
+        if lb_policy not in ("round_robin", "pick_first"):
+            raise ValueError(f'load-balancing policy "{lb_policy}" is not one of round_robin, '
+                             "pick_first")
+        config["loadBalancingConfig"] = [{lb_policy: {}}]
+    return json.dumps(config)
+
+
+def _read(path: Optional[str]) -> Optional[bytes]:
+    if path is None:
+        return None
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def _seconds(value: Optional[float]) -> Optional[duration_pb2.Duration]:
+    if value is None:
+        return None
+    duration = duration_pb2.Duration()
+    duration.FromNanoseconds(int(round(value * 1e9)))
+    return duration
+
+
+def _name(ref: Union[JobRef, service_pb2.Mesh]) -> str:
+    return ref if isinstance(ref, str) else ref.name
+
+
+class Client:
+    """A connection to an ispq server. Thread-safe; close() (or `with`) releases the channel.
+
+    target: HOST:PORT or any gRPC target URI (dns:///..., ipv4:a:1,b:2).
+    token: sent as `authorization: Bearer <token>` on every call.
+    tls: True for TLS verified by the system's roots; ca_file for your own roots; cert_file and
+    key_file for mutual TLS (any of them turns TLS on)."""
+
+    def __init__(self, target: str = "127.0.0.1:50051", *, token: Optional[str] = None,
+                 tls: bool = False, ca_file: Optional[str] = None,
+                 cert_file: Optional[str] = None, key_file: Optional[str] = None,
+                 lb_policy: Optional[str] = None):
+        if (cert_file is None) != (key_file is None):
+            raise ValueError("cert_file and key_file go together (mutual TLS)")
+        options = [("grpc.max_receive_message_length", MAX_RECEIVE_MESSAGE_BYTES),
+                   ("grpc.max_send_message_length", -1),  # the server enforces its own limit
+                   ("grpc.enable_retries", 1),
+                   ("grpc.service_config", _service_config(lb_policy))]
+        if tls or ca_file or cert_file:
+            credentials = grpc.ssl_channel_credentials(_read(ca_file), _read(key_file),
+                                                       _read(cert_file))
+            self._channel = grpc.secure_channel(target, credentials, options)
+        else:
+            self._channel = grpc.insecure_channel(target, options)
+        self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
+        self._stub = service_pb2_grpc.QuantizerStub(self._channel)
+
+    def close(self) -> None:
+        self._channel.close()
+
+    def __enter__(self) -> "Client":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    # ---- jobs ----
+
+    def quantize(self, mesh: MeshSource, *, level: Optional[int] = None,
+                 scaling: Optional[float] = None, target_hexes: Optional[int] = None,
+                 method: str = "isp", time_limit: Optional[float] = None,
+                 lower_bound: Optional[bool] = None,
+                 on_progress: Optional[ProgressCallback] = None,
+                 progress_interval: Optional[float] = None,
+                 intermediate_interval: Optional[float] = None,
+                 timeout: Optional[float] = None) -> QuantizeResult:
+        """Runs a job to its end in one call (Quantize) and returns its result. The job belongs to
+        the call: an exception in on_progress, a KeyboardInterrupt or `timeout` (seconds) cancels
+        it. Scaling: at most one of level (percent: 0, 1, 5, 10, 17, 25, 50, 100), scaling (the
+        factor s) and target_hexes. time_limit in seconds. IspqError when the server refuses the
+        request or the job fails."""
+        request = self._request(mesh, level, scaling, target_hexes, method, time_limit,
+                                lower_bound, progress_interval, intermediate_interval)
+        try:
+            events = self._stub.Quantize(request, metadata=self._metadata, timeout=timeout)
+            return self._follow(events, on_progress)
+        except grpc.RpcError as error:
+            raise IspqError.from_rpc_error(error) from None
+
+    def submit(self, mesh: MeshSource, *, level: Optional[int] = None,
+               scaling: Optional[float] = None, target_hexes: Optional[int] = None,
+               method: str = "isp", time_limit: Optional[float] = None,
+               lower_bound: Optional[bool] = None, request_id: Optional[str] = None,
+               progress_interval: Optional[float] = None,
+               intermediate_interval: Optional[float] = None,
+               retries: int = 3) -> service_pb2.Job:
+        """Accepts a job that runs whether or not anyone watches it (SubmitJob); returns it QUEUED.
+        A request_id (a fresh UUID unless given) makes the call safe to retry: on UNAVAILABLE it
+        is sent again up to `retries` times and the server returns the job it already made."""
+        request = self._request(mesh, level, scaling, target_hexes, method, time_limit,
+                                lower_bound, progress_interval, intermediate_interval)
+        request.request_id = request_id or str(uuid.uuid4())
+        return self._with_retries(lambda: self._stub.SubmitJob(request, metadata=self._metadata),
+                                  retries)
+
+    def watch(self, job: JobRef, *, on_progress: Optional[ProgressCallback] = None,
+              from_event: int = 0, retries: int = 3) -> QuantizeResult:
+        """Follows a job to its end (WatchJob) and returns its result; resumes after the last event
+        seen when the stream breaks with UNAVAILABLE (a replica or the server going away), up to
+        `retries` times in a row. Cancelling a watch does not cancel the job. IspqError when the
+        job ends with an error (its code and message) or the server refuses the watch."""
+        name = _name(job)
+        seen = [from_event - 1]
+
+        def track(progress_event_sequence: int) -> None:
+            seen[0] = max(seen[0], progress_event_sequence)
+
+        failures = 0
+        while True:
+            request = service_pb2.WatchJobRequest(name=name, from_event=seen[0] + 1)
+            try:
+                events = self._stub.WatchJob(request, metadata=self._metadata)
+                return self._follow(events, on_progress, track)
+            except grpc.RpcError as error:
+                if error.code() != grpc.StatusCode.UNAVAILABLE or failures >= retries:
+                    raise IspqError.from_rpc_error(error) from None
+                failures += 1
+                time.sleep(min(2.0, 0.1 * 2 ** failures))
+
+    def get(self, job: JobRef, *, full: bool = True) -> service_pb2.Job:
+        """The job now (GetJob); full=False leaves out the result's q and stats."""
+        view = service_pb2.FULL if full else service_pb2.BASIC
+        return self._call(self._stub.GetJob, service_pb2.GetJobRequest(name=_name(job), view=view))
+
+    def jobs(self, *, state: Optional[str] = None, full: bool = False,
+             page_size: int = 0) -> Iterator[service_pb2.Job]:
+        """Every job this principal may see, newest first (ListJobs, page after page); state:
+        QUEUED, RUNNING, SUCCEEDED, FAILED or CANCELLED to keep only those."""
+        request = service_pb2.ListJobsRequest(
+            page_size=page_size, view=service_pb2.FULL if full else service_pb2.BASIC,
+            state=service_pb2.JobState.Value(state) if state else service_pb2.JOB_STATE_UNSPECIFIED)
+        while True:
+            page = self._call(self._stub.ListJobs, request)
+            yield from page.jobs
+            if not page.next_page_token:
+                return
+            request.page_token = page.next_page_token
+
+    def cancel(self, job: JobRef) -> service_pb2.Job:
+        """Interrupts a running job (its result is the best valid q so far) or drops a queued one;
+        the job as it is after the request (CancelJob)."""
+        return self._call(self._stub.CancelJob, service_pb2.CancelJobRequest(name=_name(job)))
+
+    # ---- stored meshes ----
+
+    def create_mesh(self, mesh: Union[tmesh_pb2.TMesh, str, "os.PathLike[str]"]) -> service_pb2.Mesh:
+        """Validates and stores a mesh for repeated runs; pass the Mesh (or its name) as `mesh` to
+        quantize or submit (CreateMesh)."""
+        tmesh = mesh if isinstance(mesh, tmesh_pb2.TMesh) else load_tmesh(mesh)
+        return self._call(self._stub.CreateMesh, service_pb2.CreateMeshRequest(mesh=tmesh))
+
+    def get_mesh(self, mesh: Union[service_pb2.Mesh, str]) -> service_pb2.Mesh:
+        return self._call(self._stub.GetMesh, service_pb2.GetMeshRequest(name=_name(mesh)))
+
+    def delete_mesh(self, mesh: Union[service_pb2.Mesh, str]) -> None:
+        self._call(self._stub.DeleteMesh, service_pb2.DeleteMeshRequest(name=_name(mesh)))
+
+    def server_stats(self) -> service_pb2.ServerStats:
+        """Jobs by state, queue, workers, memory and solve-time histograms (GetServerStats)."""
+        return self._call(self._stub.GetServerStats, service_pb2.GetServerStatsRequest())
+
+    # ---- internals ----
+
+    def _call(self, method, request):
+        try:
+            return method(request, metadata=self._metadata)
+        except grpc.RpcError as error:
+            raise IspqError.from_rpc_error(error) from None
+
+    def _with_retries(self, call, retries: int):
+        for attempt in range(retries + 1):
+            try:
+                return call()
+            except grpc.RpcError as error:
+                if error.code() != grpc.StatusCode.UNAVAILABLE or attempt == retries:
+                    raise IspqError.from_rpc_error(error) from None
+                time.sleep(min(2.0, 0.1 * 2 ** (attempt + 1)))
+
+    def _request(self, mesh, level, scaling, target_hexes, method, time_limit, lower_bound,
+                 progress_interval, intermediate_interval) -> service_pb2.QuantizeRequest:
+        request = service_pb2.QuantizeRequest()
+        if isinstance(mesh, tmesh_pb2.TMesh):
+            request.mesh.CopyFrom(mesh)
+        elif isinstance(mesh, service_pb2.Mesh):
+            request.stored_mesh = mesh.name
+        elif isinstance(mesh, str) and mesh.startswith("meshes/") and not os.path.exists(mesh):
+            request.stored_mesh = mesh
+        else:
+            request.mesh.CopyFrom(load_tmesh(mesh))
+        choices = [c for c in (level, scaling, target_hexes) if c is not None]
+        if len(choices) > 1:
+            raise ValueError("give at most one of level, scaling and target_hexes")
+        if level is not None:
+            request.options.scaling.level_percent = level
+        elif scaling is not None:
+            request.options.scaling.factor = scaling
+        elif target_hexes is not None:
+            request.options.scaling.target_hexes = target_hexes
+        if method not in _METHODS:
+            raise ValueError(f'method "{method}" is not one of {", ".join(_METHODS)}')
+        request.options.method = _METHODS[method]
+        if time_limit is not None:
+            request.options.time_limit.CopyFrom(_seconds(time_limit))
+        if lower_bound is not None:
+            request.options.lower_bound = lower_bound
+        if progress_interval is not None:
+            request.progress_interval.CopyFrom(_seconds(progress_interval))
+        if intermediate_interval is not None:
+            request.intermediate_interval.CopyFrom(_seconds(intermediate_interval))
+        return request
+
+    @staticmethod
+    def _follow(events, on_progress: Optional[ProgressCallback],
+                on_event: Optional[Callable[[int], None]] = None) -> QuantizeResult:
+        """Reads a job's event stream to its terminal event. An exception in on_progress cancels
+        the stream (and with Quantize, the job)."""
+        try:
+            for event in events:
+                if on_event is not None:
+                    on_event(event.sequence)
+                kind = event.WhichOneof("kind")
+                if kind == "result":
+                    return QuantizeResult.from_proto(event.job, event.result)
+                if kind == "error":
+                    raise IspqError.from_job_error(event.job, event.error.code,
+                                                   event.error.message)
+                progress = Progress.from_event(event)
+                if progress is not None and on_progress is not None:
+                    on_progress(progress)
+        except BaseException:
+            events.cancel()
+            raise
+        raise IspqError(grpc.StatusCode.UNKNOWN, "the event stream ended without a result")
