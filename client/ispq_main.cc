@@ -7,6 +7,7 @@
 //        [--time-limit SECONDS] [--out RESULT.json] [--json]
 //   ispq validate FILE --result RESULT.json [--level P | --scaling S]
 //   ispq submit FILE | watch JOB | cancel JOB | jobs | health | server-stats  [--server ...]
+//   ispq batch DIR_OR_FILES... (--level P | --levels P,P,...) --out-dir DIR [--concurrency N]
 //
 // Flags may appear anywhere after the subcommand and may be spelled with dashes or underscores
 // (--time-limit or --time_limit); `ispq --help` lists them.
@@ -19,7 +20,9 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "absl/flags/usage.h"
+#include "absl/strings/numbers.h"
 #include "absl/time/time.h"
+#include "client/batch_command.h"
 #include "client/exit_codes.h"
 #include "client/job_commands.h"
 #include "client/quantize_command.h"
@@ -45,6 +48,12 @@ ABSL_FLAG(std::string, method, "isp",
 ABSL_FLAG(std::string, lower_bound, "auto",
           "auto (for meshes up to 5000 arcs), on or off: compute a lower bound for an ISP result");
 ABSL_FLAG(std::string, out, "", "write the result JSON to this file");
+ABSL_FLAG(std::vector<std::string>, levels, {},
+          "batch: run every mesh at each of these levels (comma-separated), instead of --level");
+ABSL_FLAG(std::string, out_dir, "", "batch: directory of the result files and summary.tsv");
+ABSL_FLAG(int32_t, concurrency, 4, "batch: jobs submitted and followed at once");
+ABSL_FLAG(double, patience, 600,
+          "batch: give a job up after this many seconds without an answer from the server");
 ABSL_FLAG(std::string, result, "", "result JSON to validate");
 ABSL_FLAG(bool, progress, true, "show live progress on stderr");
 ABSL_FLAG(std::string, server, "127.0.0.1:50051",
@@ -88,6 +97,10 @@ constexpr char kUsage[] =
     "  ispq jobs [--state STATE] [--limit N] [--json] list the server's jobs\n"
     "  ispq health                                   SERVING (exit 0) or not (exit 6)\n"
     "  ispq server-stats                             the server's counters as JSON\n"
+    "  ispq batch DIR_OR_FILES... (--level P | --levels P,P,... | ...) --out-dir DIR\n"
+    "       [--concurrency N] [--patience SECONDS]\n"
+    "      quantize every T-mesh found on a server, riding out restarts; one result file per\n"
+    "      job and OUT/summary.tsv; exit 0 only if every job has a valid result\n"
     "  remote commands take --server HOST:PORT[,HOST:PORT...] or dns:///NAME:PORT,\n"
     "  --lb_policy round_robin|pick_first, --tls, --tls-ca F, --tls-cert F --tls-key F,\n"
     "  --auth-token T (or $ISPQ_AUTH_TOKEN) and --deadline SECONDS\n";
@@ -206,7 +219,38 @@ int RunQuantize(const std::vector<char*>& args) {
   return ispq::cli::RunRemoteQuantize(options, RemoteFromFlags());
 }
 
-// submit, watch, cancel, jobs, health, server-stats; -1 for another command.
+// `ispq batch`: the quantization flags once per --levels entry (or once).
+int RunBatchCommand(const std::vector<char*>& args, const ispq::cli::RemoteCommandOptions& remote) {
+  ispq::cli::BatchCommandOptions batch;
+  batch.inputs.assign(args.begin() + 2, args.end());
+  batch.out_dir = absl::GetFlag(FLAGS_out_dir);
+  batch.concurrency = absl::GetFlag(FLAGS_concurrency);
+  batch.patience = absl::Seconds(absl::GetFlag(FLAGS_patience));
+  if (batch.inputs.empty() || batch.out_dir.empty() || batch.concurrency < 1) {
+    std::cerr << "usage: ispq batch DIR_OR_FILES... (--level P | --levels P,P,... | --scaling S | "
+                 "--target-hexes N) --out-dir DIR [--concurrency N >= 1] [--server ...]\n";
+    return ispq::cli::kExitUsage;
+  }
+  ispq::v1::QuantizationOptions quantization;
+  if (!QuantizationFromFlags(quantization)) return ispq::cli::kExitUsage;
+  const std::vector<std::string> levels = absl::GetFlag(FLAGS_levels);
+  if (levels.empty()) batch.variants.push_back(quantization);
+  for (const std::string& level : levels) {
+    int percent = 0;
+    if (quantization.scaling().kind_case() != ispq::v1::Scaling::KIND_NOT_SET ||
+        !absl::SimpleAtoi(level, &percent)) {
+      std::cerr << "ispq: --levels takes levels in percent (e.g. 0,25,100) instead of --level, "
+                   "--scaling or --target-hexes, got '"
+                << level << "'\n";
+      return ispq::cli::kExitUsage;
+    }
+    batch.variants.push_back(quantization);
+    batch.variants.back().mutable_scaling()->set_level_percent(percent);
+  }
+  return ispq::cli::RunBatch(batch, remote);
+}
+
+// submit, watch, cancel, jobs, health, server-stats, batch; -1 for another command.
 int RunServerCommand(const std::string& command, const std::vector<char*>& args) {
   const ispq::cli::RemoteCommandOptions remote = RemoteFromFlags();
   const auto usage = [](const char* text) {
@@ -219,6 +263,7 @@ int RunServerCommand(const std::string& command, const std::vector<char*>& args)
     if (!QuantizationFromFlags(quantization)) return ispq::cli::kExitUsage;
     return ispq::cli::RunSubmit(args[2], quantization, remote);
   }
+  if (command == "batch") return RunBatchCommand(args, remote);
   if (command == "watch") {
     if (args.size() != 3) return usage("watch JOB [--from N] [--out RESULT.json] [--json]");
     return ispq::cli::RunWatch(args[2], absl::GetFlag(FLAGS_from), remote);
