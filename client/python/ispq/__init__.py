@@ -21,5 +21,7 @@ from ispq.progress import Progress  # noqa: E402
 from ispq.results import QuantizeResult  # noqa: E402
 from ispq.tmesh_files import load_tmesh  # noqa: E402
 from ispq.client import Client  # noqa: E402
+from ispq.batch import BatchEntry, plan_batch, run_batch  # noqa: E402
 
-__all__ = ["Client", "IspqError", "Progress", "QuantizeResult", "load_tmesh"]
+__all__ = ["BatchEntry", "Client", "IspqError", "Progress", "QuantizeResult", "load_tmesh",
+           "plan_batch", "run_batch"]

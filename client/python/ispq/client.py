@@ -15,6 +15,7 @@ from typing import Callable, Iterator, Optional, Union
 import grpc
 from google.protobuf import duration_pb2
 
+from ispq.batch import run_batch
 from ispq.errors import IspqError
 from ispq.progress import Progress
 from ispq.results import QuantizeResult
@@ -161,6 +162,12 @@ class Client:
                     raise IspqError.from_rpc_error(error) from None
                 failures += 1
                 time.sleep(min(2.0, 0.1 * 2 ** failures))
+
+    def batch(self, inputs, out_dir: str, **kwargs):
+        """Many meshes and levels, `concurrency` jobs at a time, riding out restarts; one result
+        file per job and OUT/summary.tsv. See ispq.batch.run_batch for the arguments; returns its
+        BatchEntry list (check `entry.ok`)."""
+        return run_batch(self, inputs, out_dir, **kwargs)
 
     def get(self, job: JobRef, *, full: bool = True) -> service_pb2.Job:
         """The job now (GetJob); full=False leaves out the result's q and stats."""

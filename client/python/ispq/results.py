@@ -33,4 +33,4 @@ class QuantizeResult:
 
     def to_json(self) -> str:
         """The result file's JSON, as `ispq quantize --out` writes it (`ispq validate` reads it)."""
-        return json_format.MessageToJson(self.proto)
+        return json_format.MessageToJson(self.proto, including_default_value_fields=True) + "\n"

@@ -12,6 +12,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import unittest
 
@@ -38,7 +39,8 @@ def mesh_path(name):
 
 
 class Server:
-    """ispq-server on 127.0.0.1:0 (gRPC only); SIGTERM on exit; dies with the test."""
+    """ispq-server on 127.0.0.1:0 (gRPC only; a later --listen flag overrides it); SIGTERM on exit;
+    dies with the test."""
 
     def __init__(self, *flags):
         self.directory = tempfile.mkdtemp(prefix="ispq-python-client-")
@@ -246,6 +248,69 @@ class TokenTest(unittest.TestCase):
             with ispq.Client(server.address, token="python-secret") as client:
                 result = client.quantize(mesh_path(PRISM), level=25)
                 self.assertTrue(validate(PRISM, result, 25).get("valid"))
+
+
+class BatchTest(unittest.TestCase):
+    def test_a_batch_rides_out_a_server_restart_and_a_rerun_keeps_its_results(self):
+        levels = [0, 10, 25, 100]
+        directory = tempfile.mkdtemp(prefix="ispq-python-batch-")
+        self.addCleanup(shutil.rmtree, directory, ignore_errors=True)
+        inputs = os.path.join(DATA, "hex-me")
+        expected = len(ispq.plan_batch([inputs], directory, levels=levels))
+        server = Server("--workers=2")
+        port = server.address.rsplit(":", 1)[1]
+        outcome = {}
+        with ispq.Client(server.address) as client:
+            batch = threading.Thread(target=lambda: outcome.update(entries=client.batch(
+                [inputs], directory, levels=levels, concurrency=3)))
+            batch.start()
+            deadline = time.monotonic() + SAFETY_NET
+            while (count_results(directory) < expected // 3 and batch.is_alive()
+                   and time.monotonic() < deadline):
+                time.sleep(0.005)
+            self.assertTrue(batch.is_alive(), "the batch ended before the restart")
+            server.process.kill()  # SIGKILL: the jobs it had are lost with it
+            server.__exit__()
+            server = Server("--workers=2", f"--listen=127.0.0.1:{port}")
+            batch.join(SAFETY_NET)
+            self.assertFalse(batch.is_alive())
+            entries = outcome["entries"]
+            self.assertEqual(len(entries), expected)
+            failed = [(e.name, str(e.error)) for e in entries if not e.ok]
+            self.assertEqual(failed, [])
+            for entry in entries:
+                level = entry.scaling["level"]
+                with open(entry.result_path) as f:
+                    saved = json.load(f)
+                self.assertEqual([int(x) for x in saved["q"]], entry.result.q)
+                mesh = os.path.relpath(entry.mesh_path, DATA)
+                self.assertTrue(validate(mesh, entry.result, level).get("valid"), entry.name)
+            # Equal to --local on a sample (each is a process start; the C++ batch test compares all).
+            for entry in entries[::7]:
+                self.assertEqual(entry.result.q, local_q(os.path.relpath(entry.mesh_path, DATA),
+                                                         entry.scaling["level"]), entry.name)
+        with ispq.Client(server.address) as client:
+            accepted = client.server_stats().accepted_total
+            again = client.batch([inputs], directory, levels=levels)
+            self.assertTrue(all(e.ok and e.kept for e in again))
+            self.assertEqual(client.server_stats().accepted_total, accepted)
+            ids = [j.request_id for j in client.jobs()]
+            self.assertEqual(len(ids), len(set(ids)), "a job was run twice by the new server")
+        server.__exit__()
+        with open(os.path.join(directory, "summary.tsv")) as f:
+            self.assertEqual(len(f.read().splitlines()), expected + 1)
+
+    def test_bad_inputs_are_named_before_anything_runs(self):
+        with tempfile.TemporaryDirectory() as directory:
+            with self.assertRaisesRegex(ValueError, "notch.obj"):
+                ispq.plan_batch([os.path.join(directory, "notch.obj")], directory, levels=[5])
+            with self.assertRaisesRegex(ValueError, "no T-mesh files"):
+                ispq.plan_batch([directory], directory, levels=[5])
+
+
+def count_results(directory):
+    return sum(name.endswith(".result.json") for _, _, files in os.walk(directory)
+               for name in files)
 
 
 class PipInstallTest(unittest.TestCase):
