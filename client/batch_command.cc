@@ -60,8 +60,12 @@ std::string ProgressText(const v1::QuantizeEvent& event) {
 // Runs one job to its end through whatever the server goes through (see the header).
 class BatchJobRunner {
  public:
-  BatchJobRunner(client::QuantizerClient& client, BatchProgress& progress, absl::Duration patience)
-      : client_(client), progress_(progress), patience_(patience) {}
+  BatchJobRunner(client::QuantizerClient& client, BatchProgress& progress, absl::Duration patience,
+                 int64_t upload_above_bytes)
+      : client_(client),
+        progress_(progress),
+        patience_(patience),
+        upload_above_bytes_(upload_above_bytes) {}
 
   BatchOutcome Run(int index, const BatchJob& job) {
     BatchOutcome outcome;
@@ -113,6 +117,40 @@ class BatchJobRunner {
   // Submits (again, under the same request id, when the server lost the job) and follows the
   // job until it ends or the server stays away for `patience_`.
   client::JobOutcome Follow(int index, const BatchJob& job, const v1::QuantizeRequest& request) {
+    std::string stored_mesh;  // the uploaded mesh of a large request
+    client::JobOutcome outcome = FollowUntilEnd(index, job, request, stored_mesh);
+    if (!stored_mesh.empty()) (void)client_.DeleteMesh(stored_mesh);  // its job is over
+    return outcome;
+  }
+
+  // One submission. A large mesh is uploaded first (UploadMesh) and the request sent with its
+  // name; if the server no longer has it (restarted), it is uploaded again on the next try.
+  absl::StatusOr<std::string> Submit(const v1::QuantizeRequest& request, std::string& stored_mesh) {
+    const bool large = request.mesh().ByteSizeLong() > static_cast<size_t>(upload_above_bytes_);
+    if (!large) {
+      absl::StatusOr<v1::Job> job = client_.SubmitJob(request);
+      if (!job.ok()) return job.status();
+      return job->name();
+    }
+    if (stored_mesh.empty()) {
+      absl::StatusOr<v1::Mesh> uploaded = client_.UploadMesh(request.mesh());
+      if (!uploaded.ok()) return uploaded.status();
+      stored_mesh = uploaded->name();
+    }
+    v1::QuantizeRequest by_name;
+    by_name.set_stored_mesh(stored_mesh);
+    *by_name.mutable_options() = request.options();
+    by_name.set_request_id(request.request_id());
+    absl::StatusOr<v1::Job> job = client_.SubmitJob(by_name);
+    if (job.ok()) return job->name();
+    if (job.status().code() != absl::StatusCode::kNotFound) return job.status();
+    stored_mesh.clear();
+    return absl::UnavailableError(
+        absl::StrCat("the server no longer has the uploaded mesh (", job.status().message(), ")"));
+  }
+
+  client::JobOutcome FollowUntilEnd(int index, const BatchJob& job,
+                                    const v1::QuantizeRequest& request, std::string& stored_mesh) {
     absl::Time last_answer = absl::Now();
     absl::Duration backoff = absl::Milliseconds(100);
     std::string name;
@@ -120,9 +158,9 @@ class BatchJobRunner {
     while (true) {
       absl::Status failure;
       if (name.empty()) {
-        absl::StatusOr<v1::Job> submitted = client_.SubmitJob(request);
+        absl::StatusOr<std::string> submitted = Submit(request, stored_mesh);
         if (submitted.ok()) {
-          name = submitted->name();
+          name = *submitted;
           next_event = 0;
         } else {
           failure = submitted.status();
@@ -163,6 +201,7 @@ class BatchJobRunner {
   client::QuantizerClient& client_;
   BatchProgress& progress_;
   const absl::Duration patience_;
+  const int64_t upload_above_bytes_;
 };
 
 std::string OutcomeText(const BatchOutcome& outcome) {
@@ -215,7 +254,7 @@ int RunBatch(const BatchCommandOptions& batch, const RemoteCommandOptions& optio
   std::vector<BatchOutcome> outcomes(jobs->size());
   std::atomic<size_t> next{0};
   auto work = [&] {
-    BatchJobRunner runner(*client, progress, batch.patience);
+    BatchJobRunner runner(*client, progress, batch.patience, options.upload_above_bytes);
     for (size_t i = next++; i < jobs->size(); i = next++) {
       outcomes[i] = runner.Run(static_cast<int>(i), (*jobs)[i]);
       progress.Finished(static_cast<int>(i), (*jobs)[i].name, outcomes[i].status.ok(),

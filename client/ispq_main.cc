@@ -51,6 +51,8 @@ ABSL_FLAG(std::string, out, "", "write the result JSON to this file");
 ABSL_FLAG(std::vector<std::string>, levels, {},
           "batch: run every mesh at each of these levels (comma-separated), instead of --level");
 ABSL_FLAG(std::string, out_dir, "", "batch: directory of the result files and summary.tsv");
+ABSL_FLAG(int64_t, upload_above_bytes, 4 << 20,
+          "remote commands: send larger meshes in chunks (UploadMesh) before the job");
 ABSL_FLAG(int32_t, concurrency, 4, "batch: jobs submitted and followed at once");
 ABSL_FLAG(double, patience, 600,
           "batch: give a job up after this many seconds without an answer from the server");
@@ -200,6 +202,7 @@ ispq::cli::RemoteCommandOptions RemoteFromFlags() {
   remote.json = absl::GetFlag(FLAGS_json);
   remote.progress = absl::GetFlag(FLAGS_progress);
   remote.out_path = absl::GetFlag(FLAGS_out);
+  remote.upload_above_bytes = absl::GetFlag(FLAGS_upload_above_bytes);
   return remote;
 }
 

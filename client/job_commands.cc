@@ -48,9 +48,14 @@ int RunSubmit(const std::string& mesh_path, const v1::QuantizationOptions& quant
               const RemoteCommandOptions& options) {
   QuantizeInputOrExit loaded = LoadQuantizeInput(mesh_path, quantization);
   if (!loaded.input.has_value()) return loaded.exit_code;
-  const v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, quantization);
+  v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, quantization);
   absl::StatusOr<client::QuantizerClient> client = Connect(options);
   if (!client.ok()) return ReportError(options.connection.address, client.status());
+  // The uploaded mesh stays on the server for the job (and for retries of this submission); the
+  // server evicts it when it needs room.
+  const absl::StatusOr<std::string> uploaded =
+      UploadIfLarge(*client, request, options.upload_above_bytes, options.progress);
+  if (!uploaded.ok()) return ReportError(options.connection.address, uploaded.status());
   const absl::StatusOr<v1::Job> job = client->SubmitJob(request);
   if (!job.ok()) return ReportError(options.connection.address, job.status());
   if (options.json) {

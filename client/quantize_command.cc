@@ -51,7 +51,7 @@ int RunLocalQuantize(const QuantizeCommandOptions& options) {
 int RunRemoteQuantize(const QuantizeCommandOptions& options, const RemoteCommandOptions& server) {
   QuantizeInputOrExit loaded = LoadQuantizeInput(options.mesh_path, options.quantization);
   if (!loaded.input.has_value()) return loaded.exit_code;
-  const v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, options.quantization);
+  v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, options.quantization);
   RemoteCommandOptions output = server;
   output.json = options.json;
   output.progress = options.progress;
@@ -59,12 +59,16 @@ int RunRemoteQuantize(const QuantizeCommandOptions& options, const RemoteCommand
   absl::StatusOr<client::QuantizerClient> client =
       client::QuantizerClient::Connect(server.connection);
   if (!client.ok()) return ReportError(server.connection.address, client.status());
+  absl::StatusOr<std::string> uploaded =
+      UploadIfLarge(*client, request, server.upload_above_bytes, options.progress);
+  if (!uploaded.ok()) return ReportError(server.connection.address, uploaded.status());
   JobEventPrinter printer(options.progress);
   client::StreamOptions stream;
   stream.timeout = server.deadline;
   stream.on_event = [&printer](const v1::QuantizeEvent& event) { return printer.OnEvent(event); };
   const client::JobOutcome outcome = client->Quantize(request, stream);
   printer.Finish();
+  if (!uploaded->empty()) (void)client->DeleteMesh(*uploaded);  // the job is over
   return ReportJobOutcome(outcome, output);
 }
 

@@ -29,8 +29,8 @@ QuantizeInputOrExit LoadQuantizeInput(const std::string& mesh_path,
   return loaded;
 }
 
-const v1::QuantizeRequest& MakeQuantizeRequest(QuantizeInput& input,
-                                               const v1::QuantizationOptions& quantization) {
+v1::QuantizeRequest& MakeQuantizeRequest(QuantizeInput& input,
+                                         const v1::QuantizationOptions& quantization) {
   auto* request = input.proto.CreateOnArena<v1::QuantizeRequest>();
   request->mutable_mesh()->Swap(input.proto.mutable_message());
   *request->mutable_options() = quantization;

@@ -33,8 +33,8 @@ QuantizeInputOrExit LoadQuantizeInput(const std::string& mesh_path,
 
 // The request for a server: `input`'s mesh moves into it without a copy (the request is made on
 // the mesh's arena, and lives as long as `input`).
-const v1::QuantizeRequest& MakeQuantizeRequest(QuantizeInput& input,
-                                               const v1::QuantizationOptions& quantization);
+v1::QuantizeRequest& MakeQuantizeRequest(QuantizeInput& input,
+                                         const v1::QuantizationOptions& quantization);
 
 }  // namespace ispq::cli
 

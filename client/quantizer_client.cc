@@ -2,6 +2,8 @@
 #include "client/quantizer_client.h"
 
 #include <algorithm>
+#include <memory>
+#include <string>
 #include <utility>
 
 #include "absl/strings/match.h"
@@ -153,6 +155,44 @@ absl::StatusOr<v1::Job> QuantizerClient::CancelJob(const std::string& job) {
   v1::CancelJobRequest request;
   request.set_name(job);
   return Unary(&v1::Quantizer::StubInterface::CancelJob, request);
+}
+
+absl::StatusOr<v1::Mesh> QuantizerClient::UploadMesh(const v1::TMesh& mesh, int64_t chunk_bytes) {
+  std::string bytes;
+  if (!mesh.SerializeToString(&bytes)) {
+    return absl::InvalidArgumentError("the mesh cannot be serialized (larger than 2 GiB?)");
+  }
+  grpc::ClientContext context;
+  // A second per MiB on top of the unary timeout: slow links still finish, hung ones do not hang.
+  Prepare(context, unary_timeout_ + absl::Seconds(static_cast<double>(bytes.size()) / (1 << 20)));
+  v1::Mesh answer;
+  std::unique_ptr<grpc::ClientWriterInterface<v1::UploadMeshRequest>> writer =
+      stub_->UploadMesh(&context, &answer);
+  v1::UploadMeshRequest message;
+  message.set_total_bytes(static_cast<int64_t>(bytes.size()));
+  size_t offset = 0;
+  do {
+    const size_t length = std::min(bytes.size() - offset, static_cast<size_t>(chunk_bytes));
+    message.set_chunk(bytes.data() + offset, length);
+    offset += length;
+    if (!writer->Write(message)) break;  // the server ended the call: Finish says why
+    message.clear_total_bytes();
+  } while (offset < bytes.size());
+  writer->WritesDone();
+  const absl::Status status = StatusFromGrpc(writer->Finish());
+  if (!status.ok()) return status;
+  return answer;
+}
+
+absl::StatusOr<std::string> QuantizerClient::UploadIfLarge(v1::QuantizeRequest& request,
+                                                           int64_t above_bytes) {
+  if (!request.has_mesh() || static_cast<int64_t>(request.mesh().ByteSizeLong()) <= above_bytes) {
+    return std::string();
+  }
+  absl::StatusOr<v1::Mesh> stored = UploadMesh(request.mesh());
+  if (!stored.ok()) return stored.status();
+  request.set_stored_mesh(stored->name());  // drops the mesh (one of mesh_source)
+  return stored->name();
 }
 
 absl::StatusOr<v1::Mesh> QuantizerClient::CreateMesh(const v1::TMesh& mesh) {

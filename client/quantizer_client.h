@@ -79,6 +79,15 @@ class QuantizerClient {
   absl::StatusOr<v1::Job> CancelJob(const std::string& job);
 
   absl::StatusOr<v1::Mesh> CreateMesh(const v1::TMesh& mesh);
+  // CreateMesh for a mesh of any size: its binary form streamed in chunks of `chunk_bytes`
+  // (UploadMesh), so that it is never one message above the server's limit.
+  absl::StatusOr<v1::Mesh> UploadMesh(const v1::TMesh& mesh, int64_t chunk_bytes = 1 << 20);
+  // If `request` carries a mesh larger than `above_bytes` (gRPC's default message limit), uploads
+  // it and makes the request refer to it (stored_mesh); returns the stored mesh's name, which the
+  // caller deletes once the job no longer needs it, or "" when nothing was uploaded.
+  absl::StatusOr<std::string> UploadIfLarge(v1::QuantizeRequest& request,
+                                            int64_t above_bytes = kUploadAboveBytes);
+  static constexpr int64_t kUploadAboveBytes = 4 << 20;
   absl::StatusOr<v1::Mesh> GetMesh(const std::string& mesh);
   absl::Status DeleteMesh(const std::string& mesh);
 

@@ -4,9 +4,11 @@
 #ifndef ISPQ_CLIENT_REMOTE_COMMAND_OPTIONS_H_
 #define ISPQ_CLIENT_REMOTE_COMMAND_OPTIONS_H_
 
+#include <cstdint>
 #include <string>
 
 #include "absl/time/time.h"
+#include "client/quantizer_client.h"
 #include "client/server_connection.h"
 
 namespace ispq::cli {
@@ -17,6 +19,8 @@ struct RemoteCommandOptions {
   bool json = false;                                   // machine-readable output on stdout
   bool progress = true;                                // live progress on stderr
   std::string out_path;                                // result file, if any
+  // Meshes larger than this are uploaded in chunks (UploadMesh) before the job is sent.
+  int64_t upload_above_bytes = client::QuantizerClient::kUploadAboveBytes;
 };
 
 }  // namespace ispq::cli

@@ -21,7 +21,8 @@ int RunHealth(const RemoteCommandOptions& options, const std::string& service) {
   absl::StatusOr<std::shared_ptr<grpc::Channel>> channel = client::OpenChannel(options.connection);
   if (!channel.ok()) return ReportError(options.connection.address, channel.status());
   const absl::Duration timeout = std::min(options.deadline, kHealthTimeout);
-  const absl::StatusOr<client::ServingStatus> status = client::CheckHealth(*channel, service, timeout);
+  const absl::StatusOr<client::ServingStatus> status =
+      client::CheckHealth(*channel, service, timeout);
   if (!status.ok()) {
     ReportError(options.connection.address, status.status());
     return kExitUnavailable;

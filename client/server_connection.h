@@ -36,7 +36,7 @@ struct ServerConnection {
 };
 
 // The channel (connected lazily by gRPC), with `lb_policy` and a retry policy: idempotent calls
-// (GetJob, ListJobs, CancelJob, GetMesh, GetServerStats, WatchJob before its first event) that
+// (GetJob, ListJobs, CancelJob, GetMesh, GetServerStats; WatchJob is resumed by FollowJob) that
 // meet UNAVAILABLE, such as a replica going away, are retried up to 3 more times with backoff,
 // on another address under round_robin. INVALID_ARGUMENT for an unknown policy, INVALID_ARGUMENT
 // or NOT_FOUND for unusable TLS files.

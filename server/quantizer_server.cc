@@ -90,7 +90,7 @@ QuantizerServer::QuantizerServer(const ServerConfig& config, std::unique_ptr<Job
           JobLimits{.max_arcs = config.max_arcs, .max_job_time = config.max_job_time},
           AdmissionConfig{.threads = config.admission_threads,
                           .max_waiting = config.max_waiting_admissions}),
-      grpc_service_(service_, authenticator_) {
+      grpc_service_(service_, authenticator_, config.max_upload_bytes, config.upload_idle) {
   scheduler_.EnableClaiming(
       [this](const JobClaims::Claim& claim) { return service_.Readmit(claim); });
 }

@@ -9,6 +9,8 @@ namespace {
 
 // Below this, the server could not even take one request of the default maximum size.
 constexpr int64_t kMinMemoryBytes = 64 << 20;
+// Protobuf parses at most 2 GiB - 1 bytes in one message (the mesh and its framing).
+constexpr int64_t kMaxUploadBytes = (int64_t{1} << 31) - 64;
 
 absl::Status AtLeast(const char* flag, int64_t value, int64_t minimum) {
   if (value >= minimum) return absl::OkStatus();
@@ -36,6 +38,13 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
   }
   for (const std::string& host : config.http_allowed_hosts) {
     if (absl::Status valid = http::ValidateAllowedHost(host); !valid.ok()) return valid;
+  }
+  if (config.max_upload_bytes < 1 || config.max_upload_bytes > kMaxUploadBytes) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "--max_upload_bytes must be in [1, ", kMaxUploadBytes, "], got ", config.max_upload_bytes));
+  }
+  if (config.upload_idle <= absl::ZeroDuration()) {
+    return absl::InvalidArgumentError("--upload_idle_seconds must be positive");
   }
   if (config.max_job_time <= absl::ZeroDuration()) {
     return absl::InvalidArgumentError("--max_job_seconds must be positive");

@@ -29,6 +29,10 @@ struct ServerConfig {
   int workers = 1;
   int max_message_bytes = 32 << 20;
   int max_arcs = 500000;
+  // UploadMesh (server/grpc/mesh_upload.h): the largest mesh it takes, and how long it waits for
+  // the next chunk before dropping the upload.
+  int64_t max_upload_bytes = int64_t{1} << 30;
+  absl::Duration upload_idle = absl::Seconds(60);
   int max_queued_jobs = 64;
   absl::Duration max_job_time = absl::Minutes(10);  // InfiniteDuration: no server limit
   int retain_finished_jobs = 1000;

@@ -43,6 +43,10 @@ ABSL_FLAG(std::string, listen, "127.0.0.1:50051",
 ABSL_FLAG(int, workers, 0, "jobs solved at once, one thread each; 0: one per hardware thread");
 ABSL_FLAG(int, max_message_bytes, 32 << 20, "largest request accepted, in bytes");
 ABSL_FLAG(int, max_arcs, 500000, "largest T-mesh accepted, in arcs");
+ABSL_FLAG(int64_t, max_upload_bytes, int64_t{1} << 30,
+          "largest binary T-mesh accepted by UploadMesh (streamed in chunks), in bytes");
+ABSL_FLAG(double, upload_idle_seconds, 60,
+          "an UploadMesh that sends no chunk for this long is dropped and its memory released");
 ABSL_FLAG(int, max_queued_jobs, 64,
           "jobs that may wait for a worker; beyond, requests get RESOURCE_EXHAUSTED");
 ABSL_FLAG(double, max_job_seconds, 600,
@@ -166,6 +170,8 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   if (workers < 0) return absl::InvalidArgumentError("--workers must not be negative");
   config.max_message_bytes = absl::GetFlag(FLAGS_max_message_bytes);
   config.max_arcs = absl::GetFlag(FLAGS_max_arcs);
+  config.max_upload_bytes = absl::GetFlag(FLAGS_max_upload_bytes);
+  config.upload_idle = absl::Seconds(absl::GetFlag(FLAGS_upload_idle_seconds));
   config.max_queued_jobs = absl::GetFlag(FLAGS_max_queued_jobs);
   config.max_job_time = absl::Seconds(absl::GetFlag(FLAGS_max_job_seconds));
   config.retain_finished_jobs = absl::GetFlag(FLAGS_retain_finished_jobs);

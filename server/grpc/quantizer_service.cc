@@ -10,6 +10,7 @@
 #include "server/grpc/call_principal.h"
 #include "server/grpc/grpc_status.h"
 #include "server/grpc/job_event_stream.h"
+#include "server/grpc/mesh_upload.h"
 #include "server/grpc/request_intake.h"
 
 namespace ispq::server {
@@ -31,8 +32,12 @@ void Reply(UnaryCall& call, const absl::StatusOr<Response>& answer) {
 
 }  // namespace
 
-QuantizerService::QuantizerService(JobService& service, const Authenticator& authenticator)
-    : service_(service), authenticator_(authenticator) {}
+QuantizerService::QuantizerService(JobService& service, const Authenticator& authenticator,
+                                   int64_t max_upload_bytes, absl::Duration upload_idle)
+    : service_(service),
+      authenticator_(authenticator),
+      max_upload_bytes_(max_upload_bytes),
+      upload_watchdog_(upload_idle) {}
 
 std::optional<QuantizerService::AcceptedRequest> QuantizerService::Accept(
     UnaryCall& call, const grpc::ByteBuffer* request, int64_t max_bytes) {
@@ -120,6 +125,22 @@ grpc::ServerUnaryReactor* QuantizerService::CreateMesh(grpc::CallbackServerConte
   creation.answer = [call](const absl::StatusOr<v1::Mesh>& mesh) { Reply(*call, mesh); };
   service_.CreateMesh(std::move(creation));
   return call;
+}
+
+grpc::ServerReadReactor<grpc::ByteBuffer>* QuantizerService::UploadMesh(
+    grpc::CallbackServerContext* context, grpc::ByteBuffer* response) {
+  absl::StatusOr<Principal> principal = CallPrincipal(authenticator_, *context);
+  if (!principal.ok()) {
+    // Refused before a byte is read: a reactor that only finishes.
+    class Refused final : public grpc::ServerReadReactor<grpc::ByteBuffer> {
+     public:
+      explicit Refused(const grpc::Status& status) { Finish(status); }
+      void OnDone() override { delete this; }
+    };
+    return new Refused(ToGrpcStatus(principal.status(), *context));
+  }
+  return new MeshUpload(context, response, *std::move(principal), service_, upload_watchdog_,
+                        max_upload_bytes_);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -6,7 +6,8 @@
 // absl::Status into a grpc::Status (server/grpc/grpc_status.h). No method blocks a gRPC thread on
 // a solve or on a database: requests that carry a mesh (Quantize, SubmitJob, CreateMesh) are
 // admitted by the service off gRPC's threads when large, lookups are parsed on gRPC's thread and
-// answered there or, with a shared store, on the service's store-call threads. The two streaming
+// answered there or, with a shared store, on the service's store-call threads. UploadMesh
+// streams a large mesh in (server/grpc/mesh_upload.h). The two server-streaming
 // methods hand the call to a JobEventStream that the job wakes up; a Quantize call is answered at
 // once and its job attached (or the call rejected) when admission ends, and the job is cancelled
 // with the call.
@@ -16,6 +17,7 @@
 #ifndef ISPQ_SERVER_GRPC_QUANTIZER_SERVICE_H_
 #define ISPQ_SERVER_GRPC_QUANTIZER_SERVICE_H_
 
+#include <cstdint>
 #include <optional>
 
 #include "grpcpp/support/byte_buffer.h"
@@ -24,6 +26,7 @@
 #include "server/auth/authenticator.h"
 #include "server/auth/principal.h"
 #include "server/grpc/unary_call.h"
+#include "server/grpc/upload_watchdog.h"
 #include "server/service/job_service.h"
 
 namespace ispq::server {
@@ -36,14 +39,18 @@ using RawQuantizerService = v1::Quantizer::WithRawCallbackMethod_Quantize<
                 v1::Quantizer::WithRawCallbackMethod_CreateMesh<
                     v1::Quantizer::WithRawCallbackMethod_GetMesh<
                         v1::Quantizer::WithRawCallbackMethod_DeleteMesh<
-                            v1::Quantizer::WithRawCallbackMethod_GetServerStats<
-                                v1::Quantizer::Service>>>>>>>>>>;
+                            v1::Quantizer::WithRawCallbackMethod_UploadMesh<
+                                v1::Quantizer::WithRawCallbackMethod_GetServerStats<
+                                    v1::Quantizer::Service>>>>>>>>>>>;
 
 class QuantizerService final : public RawQuantizerService {
  public:
   // `service` and `authenticator` must outlive the gRPC server that serves this, and `service`
-  // this too (its admission threads may still answer calls).
-  QuantizerService(JobService& service, const Authenticator& authenticator);
+  // this too (its admission threads may still answer calls). Uploads (UploadMesh) may declare at
+  // most `max_upload_bytes` and are dropped after `upload_idle` without a chunk.
+  QuantizerService(JobService& service, const Authenticator& authenticator,
+                   int64_t max_upload_bytes = int64_t{1} << 30,
+                   absl::Duration upload_idle = absl::Seconds(60));
 
   grpc::ServerWriteReactor<grpc::ByteBuffer>* Quantize(grpc::CallbackServerContext* context,
                                                        const grpc::ByteBuffer* request) override;
@@ -70,6 +77,8 @@ class QuantizerService final : public RawQuantizerService {
   grpc::ServerUnaryReactor* DeleteMesh(grpc::CallbackServerContext* context,
                                        const grpc::ByteBuffer* request,
                                        grpc::ByteBuffer* response) override;
+  grpc::ServerReadReactor<grpc::ByteBuffer>* UploadMesh(grpc::CallbackServerContext* context,
+                                                        grpc::ByteBuffer* response) override;
   grpc::ServerUnaryReactor* GetServerStats(grpc::CallbackServerContext* context,
                                            const grpc::ByteBuffer* request,
                                            grpc::ByteBuffer* response) override;
@@ -102,6 +111,8 @@ class QuantizerService final : public RawQuantizerService {
 
   JobService& service_;
   const Authenticator& authenticator_;
+  const int64_t max_upload_bytes_;
+  UploadWatchdog upload_watchdog_;
 };
 
 }  // namespace ispq::server

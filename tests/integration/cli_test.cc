@@ -173,7 +173,7 @@ TEST_F(CliTest, ExitCodesScriptsCanRelyOn) {
   // 6: the queue is full (one job runs, one waits).
   const std::string long_mesh = LongRunningMeshFile();
   const CommandResult running =
-      RunCommand(Ispq("submit " + long_mesh + server_flag_ + " --level 100"));
+      RunCommand(Ispq("submit " + long_mesh + server_flag_ + " --level 100 --progress=false"));
   ASSERT_EQ(running.exit_code, 0) << running.output;
   client::QuantizerClient client = ClientOf(*server_);
   const std::string running_job(absl::StripAsciiWhitespace(running.output));
