@@ -160,27 +160,45 @@ def _run_one(client, entry: BatchEntry, patience: float, options: dict) -> None:
         (sorted(entry.scaling.items()), sorted(options.items()),
          os.path.abspath(entry.result_path))).encode()).hexdigest()[:40]
     request_id = f"batch-{request_key}"
+    # A large mesh is uploaded once and its jobs sent by name, so that every submission of the
+    # job is the same request (its request id would be refused for a different one).
+    large = mesh.ByteSize() > client.upload_above_bytes
+    stored = ""
     last_answer, backoff = time.monotonic(), 0.1
-    while True:
-        try:
-            if not entry.job:
-                entry.job = client.submit(mesh, request_id=request_id, retries=0,
-                                          **entry.scaling, **options).name
-            # A job keeps only its accepted, latest progress and terminal events: watching again
-            # from the start after a broken stream costs next to nothing.
-            entry.result = client.watch(entry.job)
-            break
-        except IspqError as error:
-            if error.job:  # the job itself ended with an error: final
-                raise
-            if error.code == grpc.StatusCode.NOT_FOUND and entry.job:
-                entry.job = ""  # the server lost it: submit again under the same id
-                last_answer = time.monotonic()
-                continue
-            if error.code not in _MAY_WORK_LATER or time.monotonic() - last_answer > patience:
-                raise
-            time.sleep(backoff)
-            backoff = min(backoff * 2, 5.0)
+    try:
+        while True:
+            try:
+                if not entry.job:
+                    if large and not stored:
+                        stored = client.upload_mesh(mesh).name
+                    entry.job = client.submit(stored or mesh, request_id=request_id, retries=0,
+                                              **entry.scaling, **options).name
+                # A job keeps only its accepted, latest progress and terminal events: watching
+                # again from the start after a broken stream costs next to nothing.
+                entry.result = client.watch(entry.job)
+                break
+            except IspqError as error:
+                if error.job:  # the job itself ended with an error: final
+                    raise
+                if error.code == grpc.StatusCode.NOT_FOUND and (entry.job or stored):
+                    # The server lost the job, or the uploaded mesh before the job was made:
+                    # send it again (the job under the same request id).
+                    if entry.job:
+                        entry.job = ""
+                    else:
+                        stored = ""
+                    last_answer = time.monotonic()
+                    continue
+                if error.code not in _MAY_WORK_LATER or time.monotonic() - last_answer > patience:
+                    raise
+                time.sleep(backoff)
+                backoff = min(backoff * 2, 5.0)
+    finally:
+        if stored:
+            try:
+                client.delete_mesh(stored)
+            except IspqError:
+                pass  # the server evicts it when it needs room
     if not entry.result.valid:
         raise IspqError(grpc.StatusCode.FAILED_PRECONDITION, "the result is not valid",
                         job=entry.job)

@@ -28,7 +28,13 @@ ProgressCallback = Callable[[Progress], None]
 
 # The C++ client's bound on one answer (client/server_connection.cc).
 MAX_RECEIVE_MESSAGE_BYTES = 256 << 20
-_RETRIED_METHODS = ["GetJob", "ListJobs", "CancelJob", "WatchJob", "GetMesh", "GetServerStats"]
+# Meshes larger than this (gRPC's default message limit) are uploaded in chunks (UploadMesh)
+# before the job is sent, as the C++ client does.
+UPLOAD_ABOVE_BYTES = 4 << 20
+UPLOAD_CHUNK_BYTES = 1 << 20
+# WatchJob is resumed by watch() itself: under the channel's retry policy, a server-streaming call
+# was seen to hang after a server restart (client/server_connection.cc).
+_RETRIED_METHODS = ["GetJob", "ListJobs", "CancelJob", "GetMesh", "GetServerStats"]
 _METHODS = {"isp": quantization_pb2.METHOD_ISP, "exact": quantization_pb2.METHOD_EXACT}
 
 
@@ -75,7 +81,7 @@ class Client:
     def __init__(self, target: str = "127.0.0.1:50051", *, token: Optional[str] = None,
                  tls: bool = False, ca_file: Optional[str] = None,
                  cert_file: Optional[str] = None, key_file: Optional[str] = None,
-                 lb_policy: Optional[str] = None):
+                 lb_policy: Optional[str] = None, upload_above_bytes: int = UPLOAD_ABOVE_BYTES):
         if (cert_file is None) != (key_file is None):
             raise ValueError("cert_file and key_file go together (mutual TLS)")
         options = [("grpc.max_receive_message_length", MAX_RECEIVE_MESSAGE_BYTES),
@@ -90,6 +96,12 @@ class Client:
             self._channel = grpc.insecure_channel(target, options)
         self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
         self._stub = service_pb2_grpc.QuantizerStub(self._channel)
+        self._upload_above_bytes = upload_above_bytes
+
+    @property
+    def upload_above_bytes(self) -> int:
+        """Meshes larger than this are uploaded in chunks before their job is sent."""
+        return self._upload_above_bytes
 
     def close(self) -> None:
         self._channel.close()
@@ -113,15 +125,23 @@ class Client:
         """Runs a job to its end in one call (Quantize) and returns its result. The job belongs to
         the call: an exception in on_progress, a KeyboardInterrupt or `timeout` (seconds) cancels
         it. Scaling: at most one of level (percent: 0, 1, 5, 10, 17, 25, 50, 100), scaling (the
-        factor s) and target_hexes. time_limit in seconds. IspqError when the server refuses the
-        request or the job fails."""
+        factor s) and target_hexes. time_limit in seconds. A mesh larger than upload_above_bytes
+        is uploaded first (and deleted after). IspqError when the server refuses the request or
+        the job fails."""
         request = self._request(mesh, level, scaling, target_hexes, method, time_limit,
                                 lower_bound, progress_interval, intermediate_interval)
+        uploaded = self._upload_if_large(request)
         try:
             events = self._stub.Quantize(request, metadata=self._metadata, timeout=timeout)
             return self._follow(events, on_progress)
         except grpc.RpcError as error:
             raise IspqError.from_rpc_error(error) from None
+        finally:
+            if uploaded:
+                try:
+                    self.delete_mesh(uploaded)  # the job is over
+                except IspqError:
+                    pass  # the server evicts it when it needs room
 
     def submit(self, mesh: MeshSource, *, level: Optional[int] = None,
                scaling: Optional[float] = None, target_hexes: Optional[int] = None,
@@ -132,9 +152,11 @@ class Client:
                retries: int = 3) -> service_pb2.Job:
         """Accepts a job that runs whether or not anyone watches it (SubmitJob); returns it QUEUED.
         A request_id (a fresh UUID unless given) makes the call safe to retry: on UNAVAILABLE it
-        is sent again up to `retries` times and the server returns the job it already made."""
+        is sent again up to `retries` times and the server returns the job it already made. A mesh
+        larger than upload_above_bytes is uploaded first and stays stored for the job."""
         request = self._request(mesh, level, scaling, target_hexes, method, time_limit,
                                 lower_bound, progress_interval, intermediate_interval)
+        self._upload_if_large(request)
         request.request_id = request_id or str(uuid.uuid4())
         return self._with_retries(lambda: self._stub.SubmitJob(request, metadata=self._metadata),
                                   retries)
@@ -201,6 +223,22 @@ class Client:
         tmesh = mesh if isinstance(mesh, tmesh_pb2.TMesh) else load_tmesh(mesh)
         return self._call(self._stub.CreateMesh, service_pb2.CreateMeshRequest(mesh=tmesh))
 
+    def upload_mesh(self, mesh: Union[tmesh_pb2.TMesh, str, "os.PathLike[str]"], *,
+                    chunk_bytes: int = UPLOAD_CHUNK_BYTES) -> service_pb2.Mesh:
+        """create_mesh for a mesh of any size: its binary form streamed in chunks (UploadMesh), so
+        that no message exceeds the server's limit. quantize and submit do this by themselves for
+        meshes above upload_above_bytes."""
+        tmesh = mesh if isinstance(mesh, tmesh_pb2.TMesh) else load_tmesh(mesh)
+        data = tmesh.SerializeToString()
+
+        def chunks():
+            yield service_pb2.UploadMeshRequest(total_bytes=len(data),
+                                                chunk=data[:chunk_bytes])
+            for offset in range(chunk_bytes, len(data), chunk_bytes):
+                yield service_pb2.UploadMeshRequest(chunk=data[offset:offset + chunk_bytes])
+
+        return self._call(self._stub.UploadMesh, chunks())
+
     def get_mesh(self, mesh: Union[service_pb2.Mesh, str]) -> service_pb2.Mesh:
         return self._call(self._stub.GetMesh, service_pb2.GetMeshRequest(name=_name(mesh)))
 
@@ -218,6 +256,15 @@ class Client:
             return method(request, metadata=self._metadata)
         except grpc.RpcError as error:
             raise IspqError.from_rpc_error(error) from None
+
+    def _upload_if_large(self, request: service_pb2.QuantizeRequest) -> str:
+        """Uploads the request's mesh if it is large and makes the request refer to it; the stored
+        mesh's name, or "" when nothing was uploaded."""
+        if not request.HasField("mesh") or request.mesh.ByteSize() <= self._upload_above_bytes:
+            return ""
+        stored = self.upload_mesh(request.mesh)
+        request.stored_mesh = stored.name  # clears the mesh (one of mesh_source)
+        return stored.name
 
     def _with_retries(self, call, retries: int):
         for attempt in range(retries + 1):

@@ -16,6 +16,7 @@ import threading
 import time
 import unittest
 
+import faulthandler
 import grpc
 
 import ispq
@@ -220,6 +221,21 @@ class ClientTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             ispq.Client("127.0.0.1:1", cert_file="client.pem")
 
+    def test_a_large_mesh_is_uploaded_in_chunks(self):
+        # upload_above_bytes lowered so that a small real mesh takes the path a 1M-arc one takes.
+        size = ispq.load_tmesh(mesh_path(NOTCH)).ByteSize()
+        with ispq.Client(self.server.address, upload_above_bytes=size // 3) as client:
+            stored_before = client.server_stats().stored_meshes
+            result = client.quantize(mesh_path(NOTCH), level=50)
+            self.assert_valid_and_local(NOTCH, result, 50)
+            self.assertEqual(client.server_stats().stored_meshes, stored_before,
+                             "quantize deletes the mesh it uploaded")
+            mesh = client.upload_mesh(mesh_path(NOTCH), chunk_bytes=1000)
+            self.assertEqual(mesh.mesh_stats, client.create_mesh(mesh_path(NOTCH)).mesh_stats)
+            job = client.submit(mesh_path(NOTCH), level=5)
+            self.assertTrue(job.stored_mesh.startswith("meshes/"), job)
+            self.assert_valid_and_local(NOTCH, client.watch(job), 5)
+
     def test_tmesh_files_in_both_formats(self):
         from_json = ispq.load_tmesh(mesh_path(NOTCH))
         self.assertGreater(len(from_json.arcs), 0)
@@ -260,7 +276,8 @@ class BatchTest(unittest.TestCase):
         server = Server("--workers=2")
         port = server.address.rsplit(":", 1)[1]
         outcome = {}
-        with ispq.Client(server.address) as client:
+        # Half the meshes go up in chunks (UploadMesh), as a cluster's large parts would.
+        with ispq.Client(server.address, upload_above_bytes=17_000) as client:
             batch = threading.Thread(target=lambda: outcome.update(entries=client.batch(
                 [inputs], directory, levels=levels, concurrency=3)))
             batch.start()
@@ -338,4 +355,6 @@ class PipInstallTest(unittest.TestCase):
 
 
 if __name__ == "__main__":
+    # A hang shows where every thread waits, before ctest's timeout (600 s) kills the test mute.
+    faulthandler.dump_traceback_later(500, exit=True)
     unittest.main()
