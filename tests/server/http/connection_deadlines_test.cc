@@ -37,9 +37,10 @@ class SocketPair {
   bool ClientSeesShutdown() const {
     char byte;
     const ssize_t n = recv(client_, &byte, 1, MSG_DONTWAIT);
+    const int error = errno;
     if (n == 0) return true;
     EXPECT_EQ(n, -1);
-    EXPECT_TRUE(errno == EAGAIN || errno == EWOULDBLOCK) << errno;
+    EXPECT_TRUE(error == EAGAIN || error == EWOULDBLOCK) << error;
     return false;
   }
 
