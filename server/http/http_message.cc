@@ -26,7 +26,10 @@ absl::string_view HttpRequest::Param(absl::string_view name) const {
 }
 
 void HttpRequest::ReleaseBody() {
-  body = std::string();
+  // A swap, not an assignment: assigning an empty string keeps the body's buffer (libstdc++
+  // moves a short string into the existing allocation), which would then outlive its
+  // reservation unaccounted.
+  std::string().swap(body);
   body_memory.clear();
 }
 

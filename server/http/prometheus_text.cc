@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "server/http/prometheus_text.h"
 
+#include <charconv>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -38,7 +40,16 @@ class Exposition {
   std::string Take() { return std::move(text_); }
 
  private:
-  static std::string Number(double value) { return absl::StrCat(value); }
+  // Counts and bytes exactly, anything else as the shortest text that reads back as the same
+  // double: absl::StrCat keeps six significant digits, so a 4 GiB budget would read 4.29497e+09
+  // and a counter past a million would move in steps of ten.
+  static std::string Number(double value) {
+    if (std::abs(value) < 0x1p53 && value == std::trunc(value)) {
+      return absl::StrCat(static_cast<int64_t>(value));
+    }
+    char buffer[32];
+    return std::string(buffer, std::to_chars(buffer, buffer + sizeof(buffer), value).ptr);
+  }
   std::string text_;
 };
 
