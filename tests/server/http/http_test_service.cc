@@ -116,16 +116,34 @@ HttpRequest RouteRequest(const std::string& method, const std::string& path, con
   return request;
 }
 
-std::string RawHttpExchange(int port, const std::string& bytes) {
+std::string RawHttpExchange(int port, const std::string& bytes, bool ipv6, int* local_port) {
   const absl::Time deadline = absl::Now() + testing::kSafetyNet;
-  const int fd = socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  sockaddr_storage address = {};
+  socklen_t length = 0;
+  if (ipv6) {
+    auto* v6 = reinterpret_cast<sockaddr_in6*>(&address);
+    v6->sin6_family = AF_INET6;
+    v6->sin6_port = htons(static_cast<uint16_t>(port));
+    v6->sin6_addr = in6addr_loopback;
+    length = sizeof(sockaddr_in6);
+  } else {
+    auto* v4 = reinterpret_cast<sockaddr_in*>(&address);
+    v4->sin_family = AF_INET;
+    v4->sin_port = htons(static_cast<uint16_t>(port));
+    v4->sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    length = sizeof(sockaddr_in);
+  }
+  const int fd = socket(address.ss_family, SOCK_STREAM | SOCK_CLOEXEC, 0);
   if (fd < 0) return "";
-  sockaddr_in address = {};
-  address.sin_family = AF_INET;
-  address.sin_port = htons(static_cast<uint16_t>(port));
-  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
   std::string answer;
-  if (connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof(address)) == 0) {
+  if (connect(fd, reinterpret_cast<sockaddr*>(&address), length) == 0) {
+    if (local_port != nullptr) {
+      sockaddr_storage local = {};
+      socklen_t local_length = sizeof(local);
+      getsockname(fd, reinterpret_cast<sockaddr*>(&local), &local_length);
+      // sin_port and sin6_port sit at the same offset.
+      *local_port = ntohs(reinterpret_cast<const sockaddr_in*>(&local)->sin_port);
+    }
     // A refusal may come before the server has taken everything: read it anyway.
     for (size_t sent = 0; sent < bytes.size();) {
       const ssize_t wrote = send(fd, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);

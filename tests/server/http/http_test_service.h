@@ -79,9 +79,11 @@ class RecordingResponder : public Responder {
 HttpRequest RouteRequest(const std::string& method, const std::string& path,
                          const std::string& id = "", const std::string& principal = "alice");
 
-// Sends `bytes` to 127.0.0.1:`port` and returns everything the server sends until it closes the
-// connection (or the safety net passes).
-std::string RawHttpExchange(int port, const std::string& bytes);
+// Sends `bytes` to 127.0.0.1:`port` ([::1] with `ipv6`) and returns everything the server sends
+// until it closes the connection (or the safety net passes); `local_port` (if set) is the
+// client's own port.
+std::string RawHttpExchange(int port, const std::string& bytes, bool ipv6 = false,
+                            int* local_port = nullptr);
 // The status code of a raw answer ("HTTP/1.1 404 ..."), 0 if there is none.
 int RawStatus(const std::string& answer);
 
