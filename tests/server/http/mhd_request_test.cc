@@ -116,23 +116,22 @@ class MhdRequestTest : public ::testing::Test {
 TEST_F(MhdRequestTest, CopiesTheHeadWithLowerCaseNamesAndTheDecodedQuery) {
   ASSERT_TRUE(StartDaemon(/*ipv6=*/false));
   int client_port = 0;
-  const std::string answer = RawHttpExchange(
-      port_,
-      "POST /v1/jobs/abc:cancel?b=x%20y&a=1&a=2&flag HTTP/1.1\r\n"
-      "Host: 127.0.0.1\r\nX-Custom-Name: Mixed Value\r\nAUTHORIZATION: Bearer T\r\n"
-      "Content-Length: 0\r\nConnection: close\r\n\r\n",
-      /*ipv6=*/false, &client_port);
+  const std::string answer =
+      RawHttpExchange(port_,
+                      "POST /v1/jobs/abc:cancel?b=x%20y&a=1&a=2&flag HTTP/1.1\r\n"
+                      "Host: 127.0.0.1\r\nX-Custom-Name: Mixed Value\r\nAUTHORIZATION: Bearer T\r\n"
+                      "Content-Length: 0\r\nConnection: close\r\n\r\n",
+                      /*ipv6=*/false, &client_port);
   ASSERT_EQ(RawStatus(answer), 204) << answer;
   const SeenHead seen = TakeSeen();
   const HttpRequest& request = seen.request;
   EXPECT_EQ(request.method, "POST");
   EXPECT_EQ(request.path, "/v1/jobs/abc:cancel");
-  EXPECT_EQ(request.headers,
-            (HttpFields{{"host", "127.0.0.1"},
-                        {"x-custom-name", "Mixed Value"},
-                        {"authorization", "Bearer T"},
-                        {"content-length", "0"},
-                        {"connection", "close"}}));
+  EXPECT_EQ(request.headers, (HttpFields{{"host", "127.0.0.1"},
+                                         {"x-custom-name", "Mixed Value"},
+                                         {"authorization", "Bearer T"},
+                                         {"content-length", "0"},
+                                         {"connection", "close"}}));
   EXPECT_EQ(request.Header("authorization"), "Bearer T");
   // Parameter names keep their case; values are decoded; a bare name has an empty value.
   EXPECT_EQ(request.query, (HttpFields{{"b", "x y"}, {"a", "1"}, {"a", "2"}, {"flag", ""}}));
@@ -167,9 +166,9 @@ TEST_F(MhdRequestTest, SocketOfIsTheConnectionsSocket) {
 TEST_F(MhdRequestTest, AnIpv6PeerIsWrittenInBrackets) {
   if (!StartDaemon(/*ipv6=*/true)) GTEST_SKIP() << "no IPv6 loopback here";
   int client_port = 0;
-  const std::string answer = RawHttpExchange(
-      port_, "GET /healthz HTTP/1.1\r\nHost: [::1]\r\nConnection: close\r\n\r\n", true,
-      &client_port);
+  const std::string answer =
+      RawHttpExchange(port_, "GET /healthz HTTP/1.1\r\nHost: [::1]\r\nConnection: close\r\n\r\n",
+                      true, &client_port);
   ASSERT_EQ(RawStatus(answer), 204) << answer;
   EXPECT_EQ(TakeSeen().request.peer, absl::StrCat("[::1]:", client_port));
 }
