@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // QuantizerServer (server/quantizer_server.h) in this process, for what the process tests
 // (tests/integration) do not reach: a start that fails after the workers are up, because the
-// gRPC address or the HTTP address cannot be bound, returns UNAVAILABLE naming the address and
-// leaves nothing running (no crash, no hang, in the destructor or the shutdown). A server that
-// starts serves and shuts down as the process tests show.
+// gRPC address or the HTTP address cannot be bound or another server listens on it, returns
+// UNAVAILABLE naming the address and leaves nothing running (no crash, no hang, in the destructor
+// or the shutdown). A server that starts serves and shuts down as the process tests show.
 #include "server/quantizer_server.h"
 
 #include <netinet/in.h>
@@ -63,6 +63,21 @@ TEST(QuantizerServerTest, AnHttpAddressThatCannotBeBoundStopsTheStartedGrpcServe
   const absl::StatusOr<std::unique_ptr<QuantizerServer>> server = QuantizerServer::Start(config);
   EXPECT_EQ(server.status().code(), absl::StatusCode::kUnavailable);
   EXPECT_THAT(std::string(server.status().message()), HasSubstr(held.address()));
+}
+
+// gRPC lets sockets share a port (SO_REUSEPORT) by default: a second server started by mistake
+// with a running one's address would take half of its connections, and with jobs kept in each
+// process's memory a client would find its job on one and NOT_FOUND on the other. A busy address
+// is refused instead, as the HTTP side refuses it.
+TEST(QuantizerServerTest, AnAddressAnotherServerListensOnIsUnavailable) {
+  ServerConfig config;
+  config.listen_address = "127.0.0.1:0";
+  const absl::StatusOr<std::unique_ptr<QuantizerServer>> first = QuantizerServer::Start(config);
+  ASSERT_TRUE(first.ok()) << first.status();
+  config.listen_address = "127.0.0.1:" + std::to_string((*first)->port());
+  const absl::StatusOr<std::unique_ptr<QuantizerServer>> second = QuantizerServer::Start(config);
+  EXPECT_EQ(second.status().code(), absl::StatusCode::kUnavailable)
+      << "a second server listens on " << config.listen_address;
 }
 
 }  // namespace
