@@ -116,6 +116,9 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(config.listen_address, *credentials, &server->port_);
+  // No SO_REUSEPORT (gRPC's default): a second server on a running one's address would share its
+  // connections, and their jobs, each in its own memory, would be NOT_FOUND half of the time.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.RegisterService(&server->grpc_service_);
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, kKeepaliveTimeMs);

@@ -6,7 +6,8 @@
 // on generated parts of about 20k arcs, the estimate is at least the measured peak, so that a
 // budget that admits a job can also run it, and at most twice it, so that the budget is not
 // spent on memory no job uses. Each solve runs as the server runs it: options resolved from a
-// request at that level, the stats admission computes, an observer that keeps the latest q.
+// request at that level, the stats admission computes, an observer that keeps the latest q. The
+// estimate of an admitted mesh from its wire size is held to the heap the mesh takes too.
 #include <cstdint>
 #include <iostream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "core/quantizer.h"
 #include "gtest/gtest.h"
 #include "server/memory/memory_estimates.h"
+#include "server/model/mesh_admission.h"
 #include "tests/bench/large/large_tmesh_generator.h"
 #include "tests/support/heap_peak.h"
 #include "tests/support/test_data.h"
@@ -123,6 +125,32 @@ TEST(SolverMemoryTest, GeneratedParts) {
   for (int level : {5, 25, 100}) ExpectEstimateHoldsThePeak(single, level);
   const TMesh assembly = Generated(bench::LargeFamily::kAssembly50, 20000);
   for (int level : {5, 25, 100}) ExpectEstimateHoldsThePeak(assembly, level);
+}
+
+// The other estimate admission makes before building anything (MeshBytes): an admitted mesh, as
+// jobs and the mesh store hold it (the validated TMesh, its statistics, the shared owner), against
+// the size of the binary protobuf it came from, on every real mesh and on generated parts.
+TEST(SolverMemoryTest, TheMeshEstimateHoldsTheAdmittedMesh) {
+  std::vector<v1::TMesh> protos;
+  for (const std::string& file : testing::RealTMeshFiles()) {
+    protos.push_back(testing::LoadProtoOrDie(file));
+  }
+  ASSERT_FALSE(protos.empty());
+  for (const bench::LargeFamily family :
+       {bench::LargeFamily::kSingleSubproblem, bench::LargeFamily::kAssembly50}) {
+    const absl::StatusOr<testing::GridTMesh> grid = bench::BuildLargeTMesh(family, 20000, 1);
+    ASSERT_TRUE(grid.ok()) << grid.status();
+    protos.push_back(grid->proto());
+  }
+  for (const v1::TMesh& proto : protos) {
+    const int64_t wire_bytes = static_cast<int64_t>(proto.ByteSizeLong());
+    const int64_t before = testing::LiveHeapBytes();
+    absl::StatusOr<AdmittedMesh> admitted = AdmitMesh(proto, 1 << 30);
+    ASSERT_TRUE(admitted.ok()) << admitted.status();
+    const int64_t held = testing::LiveHeapBytes() - before;
+    EXPECT_GE(MeshBytes(wire_bytes), held)
+        << proto.name() << ": " << proto.arcs_size() << " arcs, " << wire_bytes << " wire bytes";
+  }
 }
 
 }  // namespace
