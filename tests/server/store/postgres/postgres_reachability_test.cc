@@ -85,7 +85,7 @@ TEST_F(PostgresReachabilityTest, UnreachableWhileTheDatabaseIsStoppedAndReachabl
 // A database that hangs without closing anything: each probe ends at its timeout, and the
 // probe's connection, cut there, is replaced once the database answers again.
 TEST_F(PostgresReachabilityTest, AFrozenDatabaseIsUnreachableUntilItThaws) {
-  PostgresReachability reachability(*connections_, kPeriod, absl::Milliseconds(500),
+  PostgresReachability reachability(*connections_, kPeriod, absl::Seconds(1),
                                     [this] { ++recovered_; });
   ASSERT_TRUE(postgres_->Freeze().ok());
   ASSERT_TRUE(WaitUntil([&] { return !reachability.reachable(); }));
