@@ -27,8 +27,13 @@ QuantizationConstraints::QuantizationConstraints(const TMesh& mesh,
     : bundles_(bundles) {
   std::set<std::vector<int64_t>> equalities;
   for (int r = 0; r < consistency.num_rows(); ++r) {
-    const std::vector<LinearTerm> terms = bundles.ToBundleTerms(consistency.row(r));
-    if (terms.empty() || !equalities.insert(Key(terms, 0)).second) continue;
+    std::vector<LinearTerm> terms = bundles.ToBundleTerms(consistency.row(r));
+    if (terms.empty()) continue;
+    // Rows equal up to sign are one equality (as in core/isp/subproblem_set.cc).
+    if (terms[0].coef < 0) {
+      for (LinearTerm& t : terms) t.coef = -t.coef;
+    }
+    if (!equalities.insert(Key(terms, 0)).second) continue;
     equalities_.Append(terms);
   }
   const std::optional<int64_t> arc_bound =

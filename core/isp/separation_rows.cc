@@ -175,13 +175,19 @@ void SeparationRows::RestoreDefaultForms(std::span<const Swap> swaps, SheetSubpr
       subproblem.MarkRowChanged(r);
     }
   }
+  // A twin stays while it stands in for any default row of the subproblem, replaced in this
+  // failsafe solve or in an earlier one (only UseFailsafeForms switches default rows off).
+  std::vector<int32_t> standing_in;
+  for (int32_t r : subproblem.rows()) {
+    if (is_default_[r] && !rows_.active(r) && failsafe_of_[r] != kNoId) {
+      standing_in.push_back(failsafe_of_[r]);
+    }
+  }
+  std::sort(standing_in.begin(), standing_in.end());
   for (const Swap& swap : swaps) {
     const int32_t f = swap.second;
     if (is_default_[f] || required_[f]) continue;
-    const bool still_needed = std::any_of(swaps.begin(), swaps.end(), [&](const Swap& other) {
-      return other.second == f && !rows_.active(other.first);
-    });
-    if (!still_needed && rows_.active(f)) {
+    if (rows_.active(f) && !std::binary_search(standing_in.begin(), standing_in.end(), f)) {
       rows_.SetActive(f, false);
       subproblem.MarkRowChanged(f);
     }

@@ -239,51 +239,5 @@ INSTANTIATE_TEST_SUITE_P(
                               DualSimplexSheetLpFactory({.new_objective_clp_min_columns = 0})}),
     [](const auto& info) { return info.param.name; });
 
-// After CLP solved a new objective, the sparse dual simplex goes on from CLP's basis: a few cost
-// changes later it solves warm, without CLP (were the basis not taken back, every later solve
-// would look like a new objective to it and go to CLP too), and answers as a fresh CLP model.
-TEST(DualSimplexSheetLpTest, SolvesAfterOneByClpAreWarm) {
-  constexpr int kPairs = 80;
-  constexpr int kColumns = 2 * kPairs;
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> cost(-1, 10);
-  std::uniform_int_distribution<int> pair(0, kPairs - 1);
-  LpRowBatch rows;
-  for (int r = 0; r < 60; ++r) {
-    const int a = pair(random), b = (a + 1 + pair(random) % (kPairs - 1)) % kPairs;
-    rows.Add(std::vector<int32_t>{2 * a, 2 * a + 1, 2 * b, 2 * b + 1},
-             std::vector<double>{1, -1, -1, 1}, -1, kLpInfinity);
-  }
-  std::unique_ptr<SheetLp> live =
-      DualSimplexSheetLpFactory({.new_objective_clp_min_columns = 0})(kColumns);
-  live->AddRows(rows);
-  std::vector<double> costs(kColumns);
-  for (int c = 0; c < kColumns; ++c) {
-    costs[c] = cost(random);
-    live->SetObjectiveCoefficient(c, costs[c]);
-    live->SetColumnBounds(c, 0, 1);  // boxed, as the bulk descent's unit moves
-  }
-  const absl::StatusOr<LpOutcome> first = live->Solve();
-  ASSERT_TRUE(first.ok()) << first.status();
-  ASSERT_EQ(*first, LpOutcome::kOptimal);
-  ASSERT_EQ(live->counters().fallback_solves, 1) << "a new objective goes to CLP";
-  for (int round = 0; round < 5; ++round) {
-    for (int k = 0; k < 3; ++k) {
-      const int c = static_cast<int>(random() % kColumns);
-      costs[c] = cost(random);
-      live->SetObjectiveCoefficient(c, costs[c]);
-    }
-    std::unique_ptr<SheetLp> fresh = NewClpSheetLp(kColumns);
-    fresh->AddRows(rows);
-    for (int c = 0; c < kColumns; ++c) {
-      fresh->SetObjectiveCoefficient(c, costs[c]);
-      fresh->SetColumnBounds(c, 0, 1);
-    }
-    SCOPED_TRACE("round " + std::to_string(round));
-    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, costs));
-    EXPECT_EQ(live->counters().fallback_solves, 1);
-  }
-}
-
 }  // namespace
 }  // namespace ispq
