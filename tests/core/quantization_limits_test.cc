@@ -53,7 +53,8 @@ TEST(QuantizationLimitsTest, TooManyHexesAreRefusedEvenWhenEveryTargetFits) {
   EXPECT_TRUE(CheckTargetsRepresentable(mesh, 9900).ok());
   const absl::Status status = CheckTargetsRepresentable(mesh, 10000);
   EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(status.message(), "scaling 10000 asks for about 1.024e+15 hexes, above the limit of 1e+15");
+  EXPECT_EQ(status.message(),
+            "scaling 10000 asks for about 1.024e+15 hexes, above the limit of 1e+15");
 }
 
 }  // namespace

@@ -22,10 +22,10 @@
 namespace ispq {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::GridPoint;
 using testing::GridTMesh;
 using testing::GridTMeshSpec;
+using ::testing::HasSubstr;
 
 constexpr FeaturesPresent kAllFeatures = {.nodes = true, .arcs = true, .patches = true};
 

@@ -24,9 +24,9 @@
 namespace ispq {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::GridTMesh;
 using testing::GridTMeshSpec;
+using ::testing::HasSubstr;
 
 GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
   absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
@@ -50,9 +50,8 @@ FlatLists<HalfarcId> EdgeHalfarcs(const TMesh& mesh) {
     for (int e = 0; e < kNumEdges; ++e) {
       std::vector<HalfarcId> halfarcs;
       for (ArcId a : mesh.block_edge_arcs(b, e)) {
-        halfarcs.push_back(mesh.HalfarcDirInBlock(2 * a, b) == MakeDir(EdgeAxis(e), false)
-                               ? 2 * a
-                               : 2 * a + 1);
+        halfarcs.push_back(
+            mesh.HalfarcDirInBlock(2 * a, b) == MakeDir(EdgeAxis(e), false) ? 2 * a : 2 * a + 1);
       }
       lists.Append(halfarcs);
     }
@@ -158,8 +157,8 @@ TEST(TMeshFrameChecksTest, ACycleArcMissingFromABlockIsNamed) {
     }
   }
   ASSERT_NE(first, -1);
-  EXPECT_EQ(LoadError(proto), absl::StrCat("patch ", first, ": arc ", a,
-                                           " of its cycle is not on block 0"));
+  EXPECT_EQ(LoadError(proto),
+            absl::StrCat("patch ", first, ": arc ", a, " of its cycle is not on block 0"));
 }
 
 // A patch moved, in its own sides and in its block's face lists, to a face its arcs cross.

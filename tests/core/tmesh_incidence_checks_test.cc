@@ -21,9 +21,9 @@
 namespace ispq {
 namespace {
 
-using ::testing::HasSubstr;
 using testing::GridTMesh;
 using testing::GridTMeshSpec;
+using ::testing::HasSubstr;
 
 GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
   absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);

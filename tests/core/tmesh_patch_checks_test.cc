@@ -103,7 +103,9 @@ TEST_F(TMeshPatchChecksTest, BlocksAndFlagsAgree) {
   PatchInput feature = InputOf(wall_);
   feature.feature = feature.critical = true;
   EXPECT_EQ(Check(wall_, feature), wall + "marked feature but featuresPresent.patches is false");
-  EXPECT_EQ(CheckPatch(wall_, feature, mesh_, {.nodes = false, .arcs = false, .patches = true}, kTolerance), absl::OkStatus());
+  EXPECT_EQ(CheckPatch(wall_, feature, mesh_, {.nodes = false, .arcs = false, .patches = true},
+                       kTolerance),
+            absl::OkStatus());
 
   PatchInput critical = InputOf(wall_);
   critical.critical = true;
@@ -156,8 +158,8 @@ TEST_F(TMeshPatchChecksTest, SidesAreFourContiguousRunsInOppositePairs) {
 
   PatchInput same_dir = valid;
   same_dir.sides[1].dir = same_dir.sides[0].dir;
-  EXPECT_EQ(Check(wall_, same_dir), wall + "direction " + DirName(valid.sides[0].dir) +
-                                        " used by two sides");
+  EXPECT_EQ(Check(wall_, same_dir),
+            wall + "direction " + DirName(valid.sides[0].dir) + " used by two sides");
 
   PatchInput empty = valid;
   empty.sides[2].halfarcs = {};

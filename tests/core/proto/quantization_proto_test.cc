@@ -262,9 +262,12 @@ TEST(QuantizationProtoTest, ProgressKeepsItsValuesAndPhasesMapOneToOne) {
   EXPECT_TRUE(ProgressToProto(event).has_lower_bound());
 
   const std::map<QuantizationPhase, v1::Phase> phases = {
-      {QuantizationPhase::kGreedy, v1::GREEDY},   {QuantizationPhase::kSeparation, v1::SEPARATION},
-      {QuantizationPhase::kFailsafe, v1::FAILSAFE}, {QuantizationPhase::kFinal, v1::FINAL},
-      {QuantizationPhase::kExact, v1::EXACT},     {QuantizationPhase::kLayers, v1::LAYERS}};
+      {QuantizationPhase::kGreedy, v1::GREEDY},
+      {QuantizationPhase::kSeparation, v1::SEPARATION},
+      {QuantizationPhase::kFailsafe, v1::FAILSAFE},
+      {QuantizationPhase::kFinal, v1::FINAL},
+      {QuantizationPhase::kExact, v1::EXACT},
+      {QuantizationPhase::kLayers, v1::LAYERS}};
   for (const auto& [core, expected] : phases) {
     event.phase = core;
     EXPECT_EQ(ProgressToProto(event).phase(), expected) << QuantizationPhaseName(core);
@@ -279,9 +282,9 @@ TEST(QuantizationProtoTest, AResultsQNeedsOneEntryPerArc) {
   result.mutable_q()->RemoveLast();
   const absl::StatusOr<std::vector<int64_t>> short_q = QuantizationFromProto(result, Mesh());
   EXPECT_EQ(short_q.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_EQ(short_q.status().message(),
-            "the result has " + std::to_string(Mesh().num_arcs() - 1) +
-                " arc lengths but the mesh has " + std::to_string(Mesh().num_arcs()) + " arcs");
+  EXPECT_EQ(short_q.status().message(), "the result has " + std::to_string(Mesh().num_arcs() - 1) +
+                                            " arc lengths but the mesh has " +
+                                            std::to_string(Mesh().num_arcs()) + " arcs");
 }
 
 }  // namespace
