@@ -5,17 +5,12 @@
 
 #include <cctype>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <functional>
 #include <limits>
 #include <set>
 #include <string>
 
-#include "core/proto/tmesh_file.h"
-#include "core/read_file.h"
 #include "gmock/gmock.h"
-#include "google/protobuf/util/json_util.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"
 
@@ -456,93 +451,6 @@ TEST(TMeshFromProtoTest, UncorruptedSampleIsAccepted) {
   const absl::StatusOr<TMesh> mesh = TMeshFromProto(Tetrahedron());
   ASSERT_TRUE(mesh.ok()) << mesh.status();
   EXPECT_EQ(mesh->num_arcs(), Tetrahedron().arcs_size());
-}
-
-// Corruptions of the JSON text itself: the parser must reject them with a clear message and
-// never crash or allocate from a hostile value.
-struct JsonCorruption {
-  std::string name;
-  std::function<std::string(const std::string&)> mutate;
-  std::string expected;
-};
-
-std::string ReplaceFirst(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
-TEST(TMeshJsonTest, MalformedDocumentsAreRejected) {
-  const std::string json =
-      *ReadFileToString(testing::RealTMeshPath("hex-me/s04u_tetrahedron.tmesh.json"), 1 << 20);
-  const std::vector<JsonCorruption> cases = {
-      {"truncated", [](const std::string& s) { return s.substr(0, s.size() / 2); },
-       "not a T-mesh JSON document"},
-      {"empty", [](const std::string&) { return std::string(); }, "not a T-mesh JSON document"},
-      {"not json", [](const std::string&) { return std::string("hello"); },
-       "not a T-mesh JSON document"},
-      {"wrong type",
-       [](const std::string& s) {
-         return ReplaceFirst(s, "\"length\":",
-                             "\"length\":\"x\","
-                             "\"ignored\":");
-       },
-       "not a T-mesh JSON document"},
-      {"id beyond int32",
-       [](const std::string& s) {
-         return ReplaceFirst(s, "\"from\":", "\"from\":2147483648,\"to2\":");
-       },
-       "not a T-mesh JSON document"},
-      {"unknown key",
-       [](const std::string& s) {
-         return ReplaceFirst(s, "\"name\":", "\"nmae\":\"x\",\"name\":");
-       },
-       "not a T-mesh JSON document"},
-      {"unknown enum",
-       [](const std::string& s) { return ReplaceFirst(s, "\"POS_U\"", "\"SIDEWAYS\""); },
-       "not a T-mesh JSON document"},
-  };
-  for (const JsonCorruption& c : cases) {
-    const absl::StatusOr<v1::TMesh> parsed = ParseTMeshJson(c.mutate(json));
-    ASSERT_FALSE(parsed.ok()) << c.name << " was accepted";
-    EXPECT_EQ(parsed.status().code(), absl::StatusCode::kInvalidArgument) << c.name;
-    EXPECT_THAT(std::string(parsed.status().message()), HasSubstr(c.expected)) << c.name;
-  }
-}
-
-TEST(TMeshJsonTest, BinaryAndJsonAgree) {
-  const v1::TMesh& json_mesh = Tetrahedron();
-  const absl::StatusOr<v1::TMesh> binary = ParseTMeshBinary(json_mesh.SerializeAsString());
-  ASSERT_TRUE(binary.ok());
-  EXPECT_EQ(binary->SerializeAsString(), json_mesh.SerializeAsString());
-  EXPECT_FALSE(ParseTMeshBinary("\xff\xff\xff garbage").ok());
-}
-
-TEST(TMeshFileTest, ReadsBothFormatsAndNamesTheFileItCannotParse) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "ispq-tmesh-file";
-  std::filesystem::create_directories(dir);
-  const v1::TMesh& mesh = Tetrahedron();
-  std::string json;
-  ASSERT_TRUE(google::protobuf::util::MessageToJsonString(mesh, &json).ok());
-  std::ofstream(dir / "m.tmesh.json") << json;
-  std::ofstream(dir / "m.tmesh.pb", std::ios::binary) << mesh.SerializeAsString();
-  std::ofstream(dir / "bad.tmesh.pb", std::ios::binary) << "\xff\xff\xff garbage";
-  for (const char* name : {"m.tmesh.json", "m.tmesh.pb"}) {
-    const absl::StatusOr<TMeshMessage> read = ReadTMeshFile((dir / name).string());
-    ASSERT_TRUE(read.ok()) << name << ": " << read.status();
-    EXPECT_EQ(read->get().SerializeAsString(), mesh.SerializeAsString()) << name;
-  }
-  const std::string bad = (dir / "bad.tmesh.pb").string();
-  const absl::StatusOr<TMeshMessage> garbage = ReadTMeshFile(bad);
-  EXPECT_EQ(garbage.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_THAT(std::string(garbage.status().message()), HasSubstr(bad));
-  std::filesystem::remove_all(dir);
-}
-
-TEST(TMeshFileTest, MissingFileIsNotFound) {
-  const absl::StatusOr<TMeshMessage> mesh = ReadTMeshFile("/nonexistent/x.tmesh.json");
-  EXPECT_EQ(mesh.status().code(), absl::StatusCode::kNotFound);
-  EXPECT_THAT(std::string(mesh.status().message()), HasSubstr("/nonexistent/x.tmesh.json"));
 }
 
 }  // namespace
