@@ -41,8 +41,8 @@ ROOT = os.path.realpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 
 # The checked trees. tests/unit, tests/bench and tests/differential hold single-threaded tests
 # of core/ and tools; the generated protobuf sources are not ours.
-CHECKED = ("server/", "client/", "core/", "tests/server/", "tests/integration/", "tests/support/",
-           "tests/load/")
+CHECKED = ("server/", "client/", "core/", "tests/server/", "tests/client/", "tests/integration/",
+           "tests/support/", "tests/load/")
 
 # Off: every other warning (GCC's -Wall -Wextra -Werror build covers them; clang's own opinions
 # would only make this check fail for reasons it is not about). On, as errors: the analysis of

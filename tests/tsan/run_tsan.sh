@@ -19,11 +19,13 @@ JOBS=2  # the machines have 2 cores
 
 # The job engine (lifecycle, cancellation, watchers, deadlines while queued or running),
 # streaming over gRPC and HTTP/SSE, the HTTP API, stored meshes, shutdown, idempotency under
-# concurrent calls, and replicas sharing a PostgreSQL store: 36 tests, about 100 s under TSan.
-INTEGRATION=${1:-"JobLifecycleTest.*:AdmissionTest.*:HttpEventStreamTest.*:HttpApiTest.*:StoredMeshTest.*:ShutdownTest.*:IntermediateQuantizationTest.*:IdempotencyTest.ConcurrentCallsWithOneIdMakeOneJob:ReplicasTest.AJobSubmittedToOneReplicaIsWatchedFetchedAndCancelledThroughTheOthers:ReplicasTest.RoundRobinSpreadsCallsOverEveryReplica"}
+# concurrent calls, uploads, and replicas sharing a PostgreSQL store, about 100 s under TSan; and
+# every server and client unit test.
+INTEGRATION=${1:-"JobLifecycleTest.*:AdmissionTest.*:HttpEventStreamTest.*:HttpApiTest.*:StoredMeshTest.*:ShutdownTest.*:IntermediateQuantizationTest.*:IdempotencyTest.ConcurrentCallsWithOneIdMakeOneJob:MeshUploadTest.AStalledUploadIsDroppedAndItsMemoryReleased:MeshUploadTest.SizesThatDisagreeWithTheDeclarationAreRefused:ReplicasTest.AJobSubmittedToOneReplicaIsWatchedFetchedAndCancelledThroughTheOthers:ReplicasTest.RoundRobinSpreadsCallsOverEveryReplica"}
 
 cmake --preset tsan >/dev/null
-cmake --build --preset tsan -j "$JOBS" --target ispq_server_unit_tests ispq_service_tests
+cmake --build --preset tsan -j "$JOBS" --target ispq_server_unit_tests ispq_client_unit_tests \
+  ispq_service_tests
 
 reports=$(mktemp -d "${TMPDIR:-/tmp}/ispq-tsan.XXXXXX")
 trap 'rm -rf "$reports"' EXIT
@@ -33,6 +35,7 @@ export TSAN_OPTIONS="suppressions=$PWD/tests/tsan/tsan.supp:halt_on_error=1:seco
 
 status=0
 build/tsan/tests/server/ispq_server_unit_tests --gtest_brief=1 || status=1
+build/tsan/tests/client/ispq_client_unit_tests --gtest_brief=1 || status=1
 build/tsan/tests/integration/ispq_service_tests --gtest_brief=1 --gtest_filter="$INTEGRATION" ||
   status=1
 
