@@ -28,7 +28,7 @@ struct ServerConfig {
   std::string listen_address = "127.0.0.1:50051";
   int workers = 1;
   int max_message_bytes = 32 << 20;
-  int max_arcs = 500000;
+  int max_arcs = 2000000;
   // UploadMesh (server/grpc/mesh_upload.h): the largest mesh it takes, and how long it waits for
   // the next chunk before dropping the upload.
   int64_t max_upload_bytes = int64_t{1} << 30;

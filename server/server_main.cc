@@ -42,7 +42,8 @@ ABSL_FLAG(std::string, listen, "127.0.0.1:50051",
           "0.0.0.0:PORT to accept connections from other hosts");
 ABSL_FLAG(int, workers, 0, "jobs solved at once, one thread each; 0: one per hardware thread");
 ABSL_FLAG(int, max_message_bytes, 32 << 20, "largest request accepted, in bytes");
-ABSL_FLAG(int, max_arcs, 500000, "largest T-mesh accepted, in arcs");
+ABSL_FLAG(int, max_arcs, 2000000,
+          "largest T-mesh accepted, in arcs (the memory budget bounds what a mesh may cost)");
 ABSL_FLAG(int64_t, max_upload_bytes, int64_t{1} << 30,
           "largest binary T-mesh accepted by UploadMesh (streamed in chunks), in bytes");
 ABSL_FLAG(double, upload_idle_seconds, 60,
