@@ -13,7 +13,7 @@
 #include "server/store/postgres/postgres_job_store.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -23,18 +23,8 @@ using ::ispq::testing::WaitUntil;
 
 constexpr absl::Duration kLease = absl::Milliseconds(600);
 
-class PostgresJobClaimsTest : public ::testing::Test {
+class PostgresJobClaimsTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     absl::StatusOr<std::string> uri =
         postgres_->CreateDatabase(absl::StrCat("claims", next_database_++));
@@ -102,13 +92,8 @@ class PostgresJobClaimsTest : public ::testing::Test {
   }
   std::string Database() const { return uri_.substr(uri_.rfind('/') + 1); }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string uri_;
 };
-
-ispq::testing::PostgresInstance* PostgresJobClaimsTest::postgres_ = nullptr;
-int PostgresJobClaimsTest::next_database_ = 0;
 
 class CountingWatcher : public JobWatcher {
  public:

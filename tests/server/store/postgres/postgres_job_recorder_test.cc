@@ -20,7 +20,7 @@
 #include "server/store/postgres/postgres_schema.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -30,18 +30,8 @@ using ::ispq::testing::kSafetyNet;
 const absl::Time kT0 = absl::FromUnixSeconds(1'000'000);
 constexpr char kReplica[] = "here";
 
-class PostgresJobRecorderTest : public ::testing::Test {
+class PostgresJobRecorderTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     database_ = absl::StrCat("recorder", next_database_++);
     absl::StatusOr<std::string> uri = postgres_->CreateDatabase(database_);
@@ -149,15 +139,10 @@ class PostgresJobRecorderTest : public ::testing::Test {
     return result;
   }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string database_;
   std::shared_ptr<PostgresConnections> connections_;
   std::shared_ptr<PostgresJobRecorder> recorder_;
 };
-
-ispq::testing::PostgresInstance* PostgresJobRecorderTest::postgres_ = nullptr;
-int PostgresJobRecorderTest::next_database_ = 0;
 
 TEST_F(PostgresJobRecorderTest, RecordsARunUnderItsLeaseAndLetsGoOfTheLeaseAtTheEnd) {
   Insert({.id = "j", .state = v1::QUEUED});

@@ -20,7 +20,7 @@
 #include "server/store/postgres/postgres_schema.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -112,18 +112,8 @@ TEST(PostgresJobRowsEncodingTest, TheRowSummaryLeavesTheOutcomeToTheTerminalEven
   EXPECT_EQ(RowSummary(*succeeded).state(), v1::SUCCEEDED);
 }
 
-class PostgresJobRowsTest : public ::testing::Test {
+class PostgresJobRowsTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     database_ = absl::StrCat("rows", next_database_++);
     absl::StatusOr<std::string> uri = postgres_->CreateDatabase(database_);
@@ -164,7 +154,8 @@ class PostgresJobRowsTest : public ::testing::Test {
       work.exec_params(
           "INSERT INTO ispq_jobs (id, owner, bound_to_call, state, summary, request, "
           "create_time_ns, end_time_ns, next_sequence, cancel_requested, lease_owner, "
-          "lease_expires) VALUES ($1, 'o', false, $2, $3, 'request', $4, NULLIF($5::bigint, -1), $6, "
+          "lease_expires) VALUES ($1, 'o', false, $2, $3, 'request', $4, NULLIF($5::bigint, -1), "
+          "$6, "
           "$7, NULLIF($8, ''), CASE WHEN $8 = '' THEN NULL ELSE now() END)",
           row.id, static_cast<int>(row.state), ProtoBytes(summary), absl::ToUnixNanos(kT0),
           row.end.has_value() ? absl::ToUnixNanos(*row.end) : int64_t{-1}, row.next_sequence,
@@ -188,14 +179,9 @@ class PostgresJobRowsTest : public ::testing::Test {
   }
   std::string Ids() { return Sql("SELECT string_agg(id, ',' ORDER BY id) FROM ispq_jobs"); }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string database_;
   std::shared_ptr<PostgresConnections> connections_;
 };
-
-ispq::testing::PostgresInstance* PostgresJobRowsTest::postgres_ = nullptr;
-int PostgresJobRowsTest::next_database_ = 0;
 
 TEST_F(PostgresJobRowsTest, EventsReadBackAsWrittenInSequenceOrder) {
   Insert({.id = "j", .state = v1::RUNNING, .next_sequence = 6});

@@ -18,7 +18,7 @@
 #include "gtest/gtest.h"
 #include "tests/server/server_test_jobs.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -27,18 +27,8 @@ using ::ispq::testing::WaitUntil;
 
 constexpr absl::Duration kLease = absl::Milliseconds(600);
 
-class PostgresJobStoreTest : public ::testing::Test {
+class PostgresJobStoreTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     database_ = absl::StrCat("store", next_database_++);
     absl::StatusOr<std::string> uri = postgres_->CreateDatabase(database_);
@@ -74,14 +64,9 @@ class PostgresJobStoreTest : public ::testing::Test {
     return runner;
   }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string database_;
   std::string uri_;
 };
-
-ispq::testing::PostgresInstance* PostgresJobStoreTest::postgres_ = nullptr;
-int PostgresJobStoreTest::next_database_ = 0;
 
 TEST_F(PostgresJobStoreTest, OpenRefusesAShortLeaseAndANewerSchemaAndNamesTheReplica) {
   EXPECT_EQ(PostgresJobStore::Open(Options("a", absl::Milliseconds(299))).status().code(),

@@ -16,7 +16,7 @@
 #include "gtest/gtest.h"
 #include "server/store/postgres/postgres_connections.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -45,29 +45,14 @@ class Heard {
   std::vector<std::string> heard_ ABSL_GUARDED_BY(mutex_);
 };
 
-class PostgresListenerTest : public ::testing::Test {
+class PostgresListenerTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
-
   static std::string Uri() { return WithConnectionDefaults(postgres_->uri(), absl::Seconds(5)); }
   static void Notify(const std::string& channel, const std::string& payload) {
     ASSERT_TRUE(
         postgres_->Sql(absl::StrCat("SELECT pg_notify('", channel, "', '", payload, "')")).ok());
   }
-
-  static ispq::testing::PostgresInstance* postgres_;
 };
-
-ispq::testing::PostgresInstance* PostgresListenerTest::postgres_ = nullptr;
 
 // Sent right after the constructor returns: a listener that were not subscribed by then would
 // miss them. Notifications of one session arrive in order, so once `b` is heard, `other` would

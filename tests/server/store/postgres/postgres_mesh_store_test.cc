@@ -15,7 +15,7 @@
 #include "server/model/mesh_admission.h"
 #include "server/store/postgres/postgres_connections.h"
 #include "server/store/postgres/postgres_schema.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 #include "tests/support/test_data.h"
 
 namespace ispq::server {
@@ -32,18 +32,8 @@ const v1::TMesh& Cube() {
   return *cube;
 }
 
-class PostgresMeshStoreTest : public ::testing::Test {
+class PostgresMeshStoreTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     database_ = absl::StrCat("meshes", next_database_++);
     absl::StatusOr<std::string> uri = postgres_->CreateDatabase(database_);
@@ -80,14 +70,9 @@ class PostgresMeshStoreTest : public ::testing::Test {
     return Sql(absl::StrCat("SELECT count(*) FROM ispq_meshes WHERE id = '", id, "'")) == "1";
   }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string database_;
   std::shared_ptr<PostgresConnections> connections_;
 };
-
-ispq::testing::PostgresInstance* PostgresMeshStoreTest::postgres_ = nullptr;
-int PostgresMeshStoreTest::next_database_ = 0;
 
 TEST_F(PostgresMeshStoreTest, AStoredMeshIsFoundOnEveryReplica) {
   PostgresMeshStore here(connections_, 10, kMaxArcs);

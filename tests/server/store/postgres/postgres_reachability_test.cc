@@ -12,7 +12,7 @@
 #include "gtest/gtest.h"
 #include "server/store/postgres/postgres_connections.h"
 #include "tests/support/bounded_wait.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
@@ -21,18 +21,8 @@ using ::ispq::testing::WaitUntil;
 
 constexpr absl::Duration kPeriod = absl::Milliseconds(50);
 
-class PostgresReachabilityTest : public ::testing::Test {
+class PostgresReachabilityTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     ASSERT_TRUE(postgres_->running());
     absl::StatusOr<std::shared_ptr<PostgresConnections>> connections =
@@ -57,12 +47,9 @@ class PostgresReachabilityTest : public ::testing::Test {
     }));
   }
 
-  static ispq::testing::PostgresInstance* postgres_;
   std::shared_ptr<PostgresConnections> connections_;
   std::atomic<int> recovered_ = 0;
 };
-
-ispq::testing::PostgresInstance* PostgresReachabilityTest::postgres_ = nullptr;
 
 TEST_F(PostgresReachabilityTest, UnreachableWhileTheDatabaseIsStoppedAndReachableOnceBack) {
   PostgresReachability reachability(*connections_, kPeriod, absl::Seconds(2),

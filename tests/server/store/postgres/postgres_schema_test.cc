@@ -14,23 +14,13 @@
 #include "absl/synchronization/notification.h"
 #include "gtest/gtest.h"
 #include "server/store/postgres/postgres_connections.h"
-#include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::server {
 namespace {
 
-class PostgresSchemaTest : public ::testing::Test {
+class PostgresSchemaTest : public ispq::testing::PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<ispq::testing::PostgresInstance>> started =
-        ispq::testing::PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
   void SetUp() override {
     database_ = absl::StrCat("schema", next_database_++);
     absl::StatusOr<std::string> uri = postgres_->CreateDatabase(database_);
@@ -58,14 +48,9 @@ class PostgresSchemaTest : public ::testing::Test {
         "schemaname = 'public'");
   }
 
-  static ispq::testing::PostgresInstance* postgres_;
-  static int next_database_;
   std::string database_;
   std::shared_ptr<PostgresConnections> connections_;
 };
-
-ispq::testing::PostgresInstance* PostgresSchemaTest::postgres_ = nullptr;
-int PostgresSchemaTest::next_database_ = 0;
 
 TEST_F(PostgresSchemaTest, BringsAnEmptyDatabaseToTheCurrentVersion) {
   ASSERT_EQ(Tables(), "");
