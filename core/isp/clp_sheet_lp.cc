@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
+#include "ClpEventHandler.hpp"
 #include "ClpSimplex.hpp"
 #include "CoinFinite.hpp"
 #include "absl/status/status.h"
@@ -18,6 +20,28 @@ double ToClp(double bound) {
   if (std::isinf(bound)) return bound > 0 ? COIN_DBL_MAX : -COIN_DBL_MAX;
   return bound;
 }
+
+// Ends CLP's simplex (status 5, "stopped by event handler") once the stop check holds, asked every
+// kIterationsBetweenChecks iterations: CLP calls the handler after every iteration, and a clock
+// read costs more than a pivot of the small LPs.
+class StopCheckHandler final : public ClpEventHandler {
+ public:
+  explicit StopCheckHandler(LpStopCheck should_stop) : should_stop_(std::move(should_stop)) {}
+
+  int event(Event which) override {
+    if (which != endOfIteration || ++iterations_ % kIterationsBetweenChecks != 0) return -1;
+    return should_stop_ && should_stop_() ? 0 : -1;
+  }
+  ClpEventHandler* clone() const override { return new StopCheckHandler(*this); }
+
+ private:
+  static constexpr int64_t kIterationsBetweenChecks = 16;
+  LpStopCheck should_stop_;
+  int64_t iterations_ = 0;
+};
+
+// ClpModel::status() of a solve the event handler ended.
+constexpr int kClpStoppedByEvent = 5;
 
 class ClpSheetLp final : public SheetLp {
  public:
@@ -75,19 +99,27 @@ class ClpSheetLp final : public SheetLp {
     }
     RunSimplex(flags);
     int status = model_.status();
-    if (status != 0 && status != 1) {
+    if (status != 0 && status != 1 && status != kClpStoppedByEvent) {
       // Numerical trouble from a stale basis: retry once from the slack basis.
       model_.allSlackBasis(true);
       RunSimplex(options_.keep_factorization ? 1 : 0);
       status = model_.status();
     }
     solved_once_ = true;
-    fresh_factorization_needed_ = false;
+    // A stopped solve's factorization is not one to go on from.
+    fresh_factorization_needed_ = status == kClpStoppedByEvent;
+    if (status == kClpStoppedByEvent) return LpOutcome::kStopped;
     if (status == 0) return LpOutcome::kOptimal;
     if (status == 1) return LpOutcome::kInfeasible;
     return absl::InternalError(absl::StrCat("CLP failed with status ", status, " (secondary ",
                                             model_.secondaryStatus(), ") on ", model_.numberRows(),
                                             " rows x ", model_.numberColumns(), " columns"));
+  }
+
+  void SetStopCheck(LpStopCheck should_stop) override {
+    // The model keeps a clone.
+    const StopCheckHandler handler(std::move(should_stop));
+    model_.passInEventHandler(&handler);
   }
 
   SheetLpCounters counters() const override { return {.pivots = pivots_}; }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -40,10 +41,17 @@ class DualSimplexSheetLp final : public SheetLp {
         return LpOutcome::kOptimal;
       case SparseDualSimplex::Status::kInfeasible:
         return LpOutcome::kInfeasible;
+      case SparseDualSimplex::Status::kStopped:
+        return LpOutcome::kStopped;
       case SparseDualSimplex::Status::kFailed:
         break;
     }
     return SolveWithClp();
+  }
+
+  void SetStopCheck(LpStopCheck should_stop) override {
+    simplex_.SetStopCheck(should_stop);
+    should_stop_ = std::move(should_stop);
   }
 
   SheetLpCounters counters() const override {
@@ -84,6 +92,7 @@ class DualSimplexSheetLp final : public SheetLp {
     ++fallback_solves_;
     const int n = simplex_.num_columns(), m = simplex_.num_rows();
     std::unique_ptr<SheetLp> clp = NewClpSheetLp(n);
+    clp->SetStopCheck(should_stop_);
     LpRowBatch rows;
     const auto starts = simplex_.row_starts();
     for (int i = 0; i < m; ++i) {
@@ -110,6 +119,7 @@ class DualSimplexSheetLp final : public SheetLp {
   }
 
   SparseDualSimplex simplex_;
+  LpStopCheck should_stop_;  // for the fallback CLP
   bool used_fallback_ = false;
   std::vector<double> fallback_values_;
   int64_t fallback_solves_ = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <utility>
@@ -33,6 +34,16 @@ SheetRequest UnitMoves(bool allow_inflation, bool allow_deflation) {
   request.allow_inflation = allow_inflation;
   request.allow_deflation = allow_deflation;
   return request;
+}
+
+// The engine's LPs, each stopping mid-solve once the run's clock says so: one sheet LP over a
+// million-arc part can run for many times the time limit.
+SheetLpFactory StoppedByClock(const SheetLpFactory& new_lp, RunClock& clock) {
+  return [new_lp, &clock](int num_columns) {
+    std::unique_ptr<SheetLp> lp = new_lp(num_columns);
+    lp->SetStopCheck([&clock] { return clock.ShouldStop(); });
+    return lp;
+  };
 }
 
 // A greedy pass (not a thorough one) ends after this many consecutive roots without an
@@ -72,7 +83,8 @@ class IntegerSheetPump {
         initial_subproblems_(mesh, consistency_, bundles_),
         rows_(mesh, bundles_, quantization_, options.per_arc_nonnegative),
         subproblems_(consistency_, bundles_, initial_subproblems_, quantization_, rows_.store(),
-                     rows_.Floors(), mesh.num_arcs(), new_lp, options.decompose),
+                     rows_.Floors(), mesh.num_arcs(), StoppedByClock(new_lp, clock),
+                     options.decompose),
         separation_(separation),
         steps_(quantization_, rows_.store(), tuning, clock_, stats_),
         queue_(quantization_, rows_.store()),

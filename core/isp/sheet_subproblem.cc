@@ -161,20 +161,24 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
     ++refuted_requests_;
     return false;
   }
-  absl::StatusOr<bool> optimal = RunSolver();
-  if (!optimal.ok()) return optimal;
-  const bool reaches_cap = *optimal && ReadSheet(sheet);
-  if ((*optimal && !reaches_cap) || std::isinf(cap_)) return optimal;
+  absl::StatusOr<LpOutcome> outcome = RunSolver();
+  if (!outcome.ok()) return outcome.status();
+  if (*outcome == LpOutcome::kStopped) return false;
+  const bool optimal = *outcome == LpOutcome::kOptimal;
+  const bool reaches_cap = optimal && ReadSheet(sheet);
+  if ((optimal && !reaches_cap) || std::isinf(cap_)) return optimal;
   // The cap may have cut off the optimum, or every solution: once more without it, then back.
   ++uncapped_solves_;
   cap_ = kLpInfinity;
   ResetAllColumnPairs();
   SetRequestBounds(request);
-  optimal = RunSolver();
-  if (optimal.ok() && *optimal) ReadSheet(sheet);
+  outcome = RunSolver();
+  const bool uncapped_optimal = outcome.ok() && *outcome == LpOutcome::kOptimal;
+  if (uncapped_optimal) ReadSheet(sheet);
   cap_ = UsualCap();
   ResetAllColumnPairs();
-  return optimal;
+  if (!outcome.ok()) return outcome.status();
+  return uncapped_optimal;
 }
 
 absl::StatusOr<bool> SheetSubproblem::SolveUnitMoves(const SheetRequest& request,
@@ -184,11 +188,14 @@ absl::StatusOr<bool> SheetSubproblem::SolveUnitMoves(const SheetRequest& request
   // over the whole subproblem can afford.
   cap_ = 1;
   ResetAllColumnPairs();
-  bool feasible = SetRequestBounds(request);
-  absl::StatusOr<bool> optimal = feasible ? RunSolver() : absl::StatusOr<bool>(false);
-  if (optimal.ok() && *optimal) ReadSheet(sheet);
+  const bool feasible = SetRequestBounds(request);
+  const absl::StatusOr<LpOutcome> outcome =
+      feasible ? RunSolver() : absl::StatusOr<LpOutcome>(LpOutcome::kInfeasible);
+  const bool optimal = outcome.ok() && *outcome == LpOutcome::kOptimal;
+  if (optimal) ReadSheet(sheet);
   cap_ = UsualCap();
   ResetAllColumnPairs();
+  if (!outcome.ok()) return outcome.status();
   return optimal;
 }
 
@@ -244,13 +251,12 @@ bool SheetSubproblem::SetRequestBounds(const SheetRequest& request) {
   return true;
 }
 
-absl::StatusOr<bool> SheetSubproblem::RunSolver() {
+absl::StatusOr<LpOutcome> SheetSubproblem::RunSolver() {
   ++solver_calls_;
   const SheetLpCounters before = lp_->counters();
   const absl::StatusOr<LpOutcome> outcome = lp_->Solve();
   lp_counters_ += lp_->counters() - before;
-  if (!outcome.ok()) return outcome.status();
-  return *outcome == LpOutcome::kOptimal;
+  return outcome;
 }
 
 double SheetSubproblem::UsualCap() const {

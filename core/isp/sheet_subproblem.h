@@ -68,7 +68,8 @@ class SheetSubproblem {
   // Row r changed activity.
   void MarkRowChanged(int32_t r);
 
-  // false if the LP is infeasible; on success `sheet` holds the solution. Requests that are
+  // false if the LP is infeasible, or if its solve was stopped (SheetLp::SetStopCheck: the run's
+  // clock, which the caller asks next); on success `sheet` holds the solution. Requests that are
   // infeasible on their face (a root or pinned bundle below its floor) do not reach the solver.
   absl::StatusOr<bool> Solve(const SheetRequest& request, RationalSheet* sheet);
   // How many times Solve() actually ran the solver, how many of those were repeats with the
@@ -96,8 +97,8 @@ class SheetSubproblem {
   bool SetRequestBounds(const SheetRequest& request);
   // A request for unit moves (SheetRequest::unit_moves): every column boxed at one unit.
   absl::StatusOr<bool> SolveUnitMoves(const SheetRequest& request, RationalSheet* sheet);
-  // Runs the solver; true for kOptimal.
-  absl::StatusOr<bool> RunSolver();
+  // Runs the solver and counts what it did.
+  absl::StatusOr<LpOutcome> RunSolver();
   // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
   bool ReadSheet(RationalSheet* sheet);
   // The column cap outside a repeat without it: the context's if the LP wants one, else +inf.

@@ -792,7 +792,11 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
   bool values_exact = false;
   int drops_since_pivot = 0;
   int64_t degenerate_run = 0;  // pivots in a row that left the objective where it was
-  while (true) {
+  for (int64_t pass = 1;; ++pass) {
+    // Every pass either pivots or does a pivot's worth of work (a pivot row, a refactorization).
+    if (pass % kPassesBetweenStopChecks == 0 && should_stop_ && should_stop_()) {
+      return Status::kStopped;
+    }
     if (!factorization_valid_ || factorization_->pivots() >= options_.max_pivots) {
       dual_check_.clear();
       if (!Refactorize()) {

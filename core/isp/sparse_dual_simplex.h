@@ -38,6 +38,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/isp/sheet_lp.h"
@@ -83,7 +84,8 @@ struct SparseDualSimplexOptions {
 
 class SparseDualSimplex {
  public:
-  enum class Status : uint8_t { kOptimal, kInfeasible, kFailed };
+  // kStopped: the stop check (SetStopCheck) held; the solve can be repeated from where it ended.
+  enum class Status : uint8_t { kOptimal, kInfeasible, kFailed, kStopped };
 
   // num_columns columns with bounds [0, +inf), cost 0, and no rows.
   explicit SparseDualSimplex(int num_columns, const SparseDualSimplexOptions& options = {});
@@ -102,6 +104,10 @@ class SparseDualSimplex {
 
   // kFailed after max_iterations pivots (options' limit when 0 or larger).
   Status Solve(int64_t max_iterations = 0);
+  // Polled every kPassesBetweenStopChecks passes of Solve()'s loop (about as many pivots): a
+  // solve ends with kStopped once it holds. Empty: never stops early.
+  void SetStopCheck(LpStopCheck should_stop) { should_stop_ = std::move(should_stop); }
+  static constexpr int64_t kPassesBetweenStopChecks = 64;
   // Takes the basis another solver found optimal for the model as it stands: `is_basic` flags the
   // columns and then the rows' logicals (exactly num_rows() of them set), `column_values` that
   // solver's answer, which puts each nonbasic variable at the bound it is nearest to. The next
@@ -198,6 +204,7 @@ class SparseDualSimplex {
   void CheckOptimalInvariants() const;
 
   const SparseDualSimplexOptions options_;
+  LpStopCheck should_stop_;
   int num_columns_;
   int num_rows_ = 0;
 

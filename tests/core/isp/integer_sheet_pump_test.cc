@@ -9,6 +9,8 @@
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <memory>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +19,7 @@
 #include "core/proto/tmesh_file.h"
 #include "core/quantization_objective.h"
 #include "core/quantization_validator.h"
+#include "core/solve_interrupter.h"
 #include "gtest/gtest.h"
 #include "tests/bench/large/large_tmesh_generator.h"
 #include "tests/support/test_data.h"
@@ -415,6 +418,84 @@ TEST(IntegerSheetPumpTest, ARunStoppedAtOnceReturnsTheLayeredQ) {
   ASSERT_TRUE(outcome.ok()) << outcome.status();
   EXPECT_EQ(outcome->termination, Termination::kTimeLimit);
   ExpectSeparatingAndValid(mesh, *outcome);
+}
+
+// A sheet LP over CLP that, at its `interrupt_at`-th solve (counted over all LPs of the run),
+// interrupts the run and answers as a back end whose stop check held mid-solve would: kStopped.
+class InterruptedMidSolveLp final : public SheetLp {
+ public:
+  struct Script {
+    SolveInterrupter* interrupter;
+    int interrupt_at;
+    int solves = 0;
+    bool held_before_interrupt = false;
+    bool held_after_interrupt = false;
+  };
+  InterruptedMidSolveLp(int num_columns, Script* script)
+      : lp_(NewClpSheetLp(num_columns)), script_(script) {}
+
+  int num_columns() const override { return lp_->num_columns(); }
+  int num_rows() const override { return lp_->num_rows(); }
+  void SetObjectiveCoefficient(int column, double value) override {
+    lp_->SetObjectiveCoefficient(column, value);
+  }
+  void SetColumnBounds(int column, double lower, double upper) override {
+    lp_->SetColumnBounds(column, lower, upper);
+  }
+  void SetRowBounds(int row, double lower, double upper) override {
+    lp_->SetRowBounds(row, lower, upper);
+  }
+  void AddRows(const LpRowBatch& batch) override { lp_->AddRows(batch); }
+  bool wants_column_cap() const override { return true; }
+  void SetStopCheck(LpStopCheck should_stop) override { should_stop_ = std::move(should_stop); }
+  std::span<const double> column_values() const override { return lp_->column_values(); }
+
+  absl::StatusOr<LpOutcome> Solve() override {
+    if (++script_->solves != script_->interrupt_at) return lp_->Solve();
+    script_->held_before_interrupt = should_stop_ && should_stop_();
+    script_->interrupter->Interrupt();
+    script_->held_after_interrupt = should_stop_ && should_stop_();
+    return LpOutcome::kStopped;
+  }
+
+ private:
+  std::unique_ptr<SheetLp> lp_;
+  Script* script_;
+  LpStopCheck should_stop_;
+};
+
+// The engine gives every LP a stop check on the run's clock, and a solve stopped by it ends the
+// run there: no LP is solved after it, and the answer is the best valid q found before it,
+// whichever solve was cut short: one in the first descent, one in the middle of the run, one
+// near its end.
+TEST(IntegerSheetPumpTest, AnInterruptInsideASheetLpEndsTheRunAtThatSolve) {
+  const TMesh mesh = SyntheticPart();
+  QuantizeOptions options;
+  options.scaling = mesh.levels()[5].scaling;
+  IspTuning layered;
+  layered.layered_start_min_arcs = 0;
+  const absl::StatusOr<IspOutcome> whole =
+      RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), layered, nullptr, nullptr);
+  ASSERT_TRUE(whole.ok()) << whole.status();
+  const int64_t solves = whole->stats.lp_solves;
+  ASSERT_GT(solves, 20);
+  for (const int64_t at : {int64_t{2}, solves / 2, solves - 5}) {
+    SCOPED_TRACE("interrupted at solve " + std::to_string(at) + " of " + std::to_string(solves));
+    SolveInterrupter interrupter;
+    InterruptedMidSolveLp::Script script{.interrupter = &interrupter,
+                                         .interrupt_at = static_cast<int>(at)};
+    const SheetLpFactory factory = [&script](int columns) {
+      return std::make_unique<InterruptedMidSolveLp>(columns, &script);
+    };
+    const absl::StatusOr<IspOutcome> cut =
+        RunIntegerSheetPump(mesh, options, factory, layered, nullptr, &interrupter);
+    ASSERT_TRUE(cut.ok()) << cut.status();
+    EXPECT_FALSE(script.held_before_interrupt);
+    EXPECT_TRUE(script.held_after_interrupt);
+    EXPECT_EQ(script.solves, at) << "an LP was solved after the stopped one";
+    EXPECT_EQ(cut->termination, Termination::kInterrupted);
+    ExpectSeparatingAndValid(mesh, *cut);
+  }
 }
 
 }  // namespace

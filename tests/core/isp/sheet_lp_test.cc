@@ -222,6 +222,47 @@ TEST_P(SheetLpTest, NewObjectivesBetweenWarmSolvesMatchFreshModels) {
   }
 }
 
+// A stop check that holds ends a solve long before its optimum, with kStopped, on every back end
+// (the sparse simplex, CLP, and the sparse simplex's fallback to CLP); the solve that follows
+// without it finishes from wherever the stopped one left, with the answer of a fresh model.
+TEST_P(SheetLpTest, AStopCheckThatHoldsEndsTheSolveAndTheNextOneFinishes) {
+  // 1500 covering rows x_a + x_b + x_c >= 1 over 3000 columns: from the slack basis every row is
+  // violated, so the solve takes hundreds of pivots (more than the few hundred the stop check
+  // lets go by below, on every back end).
+  constexpr int kColumns = 3000;
+  std::mt19937 random(5);
+  std::uniform_int_distribution<int> column(0, kColumns - 1);
+  std::uniform_real_distribution<double> cost(0.1, 10);
+  LpRowBatch rows;
+  for (int r = 0; r < 1500; ++r) {
+    rows.Add(std::vector<int32_t>{column(random), column(random), column(random)},
+             std::vector<double>{1, 1, 1}, 1, kLpInfinity);
+  }
+  std::vector<double> costs(kColumns);
+  for (double& c : costs) c = cost(random);
+  std::unique_ptr<SheetLp> live = NewLp(kColumns);
+  std::unique_ptr<SheetLp> fresh = NewClpSheetLp(kColumns);
+  for (SheetLp* lp : {live.get(), fresh.get()}) {
+    lp->AddRows(rows);
+    for (int c = 0; c < kColumns; ++c) {
+      lp->SetObjectiveCoefficient(c, costs[c]);
+      lp->SetColumnBounds(c, 0, 1);
+    }
+  }
+  int asked = 0;
+  live->SetStopCheck([&asked] { return ++asked >= 3; });
+  const absl::StatusOr<LpOutcome> stopped = live->Solve();
+  ASSERT_TRUE(stopped.ok()) << stopped.status();
+  EXPECT_EQ(*stopped, LpOutcome::kStopped);
+  EXPECT_EQ(asked, 3) << "asked until it held, then no more";
+  const int64_t pivots_when_stopped = live->counters().pivots;
+
+  live->SetStopCheck({});
+  ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, costs));
+  EXPECT_EQ(asked, 3);
+  EXPECT_GT(live->counters().pivots, pivots_when_stopped);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     BackEnds, SheetLpTest,
     ::testing::Values(BackEnd{"SparseDualSimplex", DualSimplexSheetLpFactory()},

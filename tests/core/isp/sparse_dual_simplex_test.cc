@@ -478,6 +478,10 @@ class MirroredSheetLp : public SheetLp {
     clp_->AddRows(batch);
   }
   bool wants_column_cap() const override { return true; }  // CLP needs it
+  void SetStopCheck(LpStopCheck should_stop) override {
+    simplex_->SetStopCheck(should_stop);
+    clp_->SetStopCheck(std::move(should_stop));
+  }
 
   absl::StatusOr<LpOutcome> Solve() override {
     absl::StatusOr<LpOutcome> ours = simplex_->Solve();
