@@ -10,6 +10,12 @@ from ispq.v1 import tmesh_pb2
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+def is_binary_tmesh_path(path) -> bool:
+    """Whether `path` names a binary T-mesh file (.tmesh.pb, .binpb): one that can be sent as it
+    is, without parsing it here."""
+    return isinstance(path, (str, os.PathLike)) and os.fspath(path).endswith((".pb", ".binpb"))
+
+
 def load_tmesh(path: PathLike) -> tmesh_pb2.TMesh:
     """Reads a T-mesh file; ValueError naming the file when it is not one. The server validates
     the mesh itself (and names the offending element) when it is sent."""

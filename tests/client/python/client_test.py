@@ -236,6 +236,41 @@ class ClientTest(unittest.TestCase):
             self.assertTrue(job.stored_mesh.startswith("meshes/"), job)
             self.assert_valid_and_local(NOTCH, client.watch(job), 5)
 
+    def test_a_large_binary_file_is_streamed_from_disk_unparsed(self):
+        # A binary file above upload_above_bytes goes to the server as it is: never loaded here
+        # (load_tmesh made to fail), one chunk in memory at a time; the server's refusal of a
+        # file that is no T-mesh names the file.
+        from ispq import client as client_module
+        tmesh = ispq.load_tmesh(mesh_path(NOTCH))
+        with tempfile.TemporaryDirectory() as directory:
+            binary = os.path.join(directory, "notch.tmesh.pb")
+            with open(binary, "wb") as f:
+                f.write(tmesh.SerializeToString())
+            broken = os.path.join(directory, "broken.tmesh.pb")
+            with open(broken, "wb") as f:
+                f.write(b"\xff" * 5000)
+            loader = client_module.load_tmesh
+
+            def must_not_parse(path):
+                raise AssertionError(f"{path} was parsed on the client")
+
+            client_module.load_tmesh = must_not_parse
+            try:
+                with ispq.Client(self.server.address,
+                                 upload_above_bytes=tmesh.ByteSize() // 3) as client:
+                    self.assert_valid_and_local(NOTCH, client.quantize(binary, level=25), 25)
+                    job = client.submit(binary, level=10)
+                    self.assertTrue(job.stored_mesh.startswith("meshes/"), job)
+                    self.assert_valid_and_local(NOTCH, client.watch(job), 10)
+                    mesh = client.upload_mesh(binary, chunk_bytes=700)
+                    self.assertEqual(mesh.mesh_stats.arcs, len(tmesh.arcs))
+                    with self.assertRaises(ispq.IspqError) as refused:
+                        client.quantize(broken, level=25)
+                    self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+                    self.assertIn(broken, refused.exception.message)
+            finally:
+                client_module.load_tmesh = loader
+
     def test_tmesh_files_in_both_formats(self):
         from_json = ispq.load_tmesh(mesh_path(NOTCH))
         self.assertGreater(len(from_json.arcs), 0)
