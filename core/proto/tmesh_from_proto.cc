@@ -24,15 +24,14 @@
 namespace ispq {
 namespace {
 
-absl::StatusOr<TMeshHeader> DecodeHeader(const v1::TMesh& proto) {
+absl::StatusOr<TMeshHeader> DecodeHeader(const v1::TMesh& proto, const TMeshSizes& sizes) {
   if (proto.format_version() != 1) {
     return InvalidArgument("formatVersion is ", proto.format_version(), ", only 1 is supported");
   }
   const v1::FeaturesPresent& present = proto.features_present();
-  return TMeshHeader{
-      .name = proto.name(),
-      .sizes = {proto.nodes_size(), proto.arcs_size(), proto.patches_size(), proto.blocks_size()},
-      .features_present = {present.nodes(), present.arcs(), present.patches()}};
+  return TMeshHeader{.name = proto.name(),
+                     .sizes = sizes,
+                     .features_present = {present.nodes(), present.arcs(), present.patches()}};
 }
 
 absl::StatusOr<NodeInput> DecodeNode(NodeId n, const v1::Node& node, const IdRanges& ids) {
@@ -158,26 +157,45 @@ absl::StatusOr<PatchInput> DecodePatch(PatchId p, const v1::Patch& patch, const 
   return input;
 }
 
-// Nodes, arcs, patches and blocks, each decoded and handed to the builder in id order.
-absl::Status AddElements(const v1::TMesh& proto, const IdRanges& ids, TMeshBuilder& builder) {
-  for (NodeId n = 0; n < proto.nodes_size(); ++n) {
-    ISPQ_ASSIGN_OR_RETURN(const NodeInput node, DecodeNode(n, proto.nodes(n), ids));
-    ISPQ_RETURN_IF_ERROR(builder.AddNode(node));
+// Decodes each element the source hands over and adds it to the builder, keeping of each patch
+// the transition translation that CheckTranslations needs once the mesh is built.
+class ElementDecoder final : public TMeshElementSink {
+ public:
+  ElementDecoder(const TMeshSizes& sizes, TMeshBuilder& builder) : ids_(sizes), builder_(builder) {}
+
+  absl::Status Node(const v1::Node& node) override {
+    ISPQ_ASSIGN_OR_RETURN(const NodeInput input, DecodeNode(nodes_++, node, ids_));
+    return builder_.AddNode(input);
   }
-  for (ArcId a = 0; a < proto.arcs_size(); ++a) {
-    ISPQ_ASSIGN_OR_RETURN(const ArcInput arc, DecodeArc(a, proto.arcs(a), ids));
-    ISPQ_RETURN_IF_ERROR(builder.AddArc(arc));
+  absl::Status Arc(const v1::Arc& arc) override {
+    ISPQ_ASSIGN_OR_RETURN(const ArcInput input, DecodeArc(arcs_++, arc, ids_));
+    return builder_.AddArc(input);
   }
-  for (PatchId p = 0; p < proto.patches_size(); ++p) {
-    ISPQ_ASSIGN_OR_RETURN(const PatchInput patch, DecodePatch(p, proto.patches(p), ids));
-    ISPQ_RETURN_IF_ERROR(builder.AddPatch(patch));
+  absl::Status Patch(const v1::Patch& patch) override {
+    ISPQ_ASSIGN_OR_RETURN(const PatchInput input, DecodePatch(patches_++, patch, ids_));
+    const auto& t = patch.transition().translation();
+    translations_.push_back(t.size() == 3 ? std::optional<std::array<double, 3>>({t[0], t[1], t[2]})
+                                          : std::nullopt);
+    return builder_.AddPatch(input);
   }
-  for (BlockId b = 0; b < proto.blocks_size(); ++b) {
-    ISPQ_ASSIGN_OR_RETURN(BlockInput block, BlockInputFromProto(b, proto.blocks(b), ids));
-    ISPQ_RETURN_IF_ERROR(builder.AddBlock(std::move(block)));
+  absl::Status Block(const v1::Block& block) override {
+    ISPQ_ASSIGN_OR_RETURN(BlockInput input, BlockInputFromProto(blocks_++, block, ids_));
+    return builder_.AddBlock(std::move(input));
   }
-  return absl::OkStatus();
-}
+
+  bool HasAll(const TMeshSizes& sizes) const {
+    return nodes_ == sizes.nodes && arcs_ == sizes.arcs && patches_ == sizes.patches &&
+           blocks_ == sizes.blocks;
+  }
+  // Per patch: its transition's translation, if the file gave one.
+  std::vector<std::optional<std::array<double, 3>>>& translations() { return translations_; }
+
+ private:
+  const IdRanges ids_;
+  TMeshBuilder& builder_;
+  int32_t nodes_ = 0, arcs_ = 0, patches_ = 0, blocks_ = 0;
+  std::vector<std::optional<std::array<double, 3>>> translations_;
+};
 
 // The entity list a request may send; its ids must be its positions. The builder compares it
 // with the entities the mesh makes, which need not be range-checked: they are never indexed.
@@ -216,13 +234,13 @@ const std::array<double, 3>* FindUvw(const TMesh& mesh, BlockId b, NodeId n) {
 // tolerance is the builder's for coordinates, relative to the largest coordinate involved (at
 // least 1). The format lets t be omitted (proto/README.md, section Transitions): then there is
 // nothing to check it against, and compact files (the benchmark's largest meshes) leave it out.
-absl::Status CheckTranslations(const v1::TMesh& proto, const TMesh& mesh, double tolerance) {
+absl::Status CheckTranslations(std::span<const std::optional<std::array<double, 3>>> translations,
+                               const TMesh& mesh, double tolerance) {
   for (PatchId p = 0; p < mesh.num_patches(); ++p) {
     const BlockId b0 = mesh.patch_block(p, 0), b1 = mesh.patch_block(p, 1);
     if (b0 == kNoId || b1 == kNoId) continue;
-    const auto& translation = proto.patches(p).transition().translation();
-    if (translation.size() != 3) continue;  // omitted (the header checks for 0 or 3 entries)
-    const std::array<double, 3> t = {translation[0], translation[1], translation[2]};
+    if (!translations[p].has_value()) continue;  // omitted (0 or 3 entries, DecodeTransition)
+    const std::array<double, 3>& t = *translations[p];
     for (HalfarcId h : mesh.patch_cycle(p)) {
       const NodeId n = mesh.tail(h);
       const std::array<double, 3>* from = FindUvw(mesh, b0, n);
@@ -251,20 +269,42 @@ absl::Status CheckTranslations(const v1::TMesh& proto, const TMesh& mesh, double
 
 }  // namespace
 
-absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
+absl::StatusOr<TMesh> TMeshFromParts(const v1::TMesh& header_fields, const TMeshSizes& sizes,
+                                     const TMeshElementSource& elements,
                                      const TMeshValidationOptions& options) {
-  ISPQ_ASSIGN_OR_RETURN(const TMeshHeader header, DecodeHeader(proto));
+  ISPQ_ASSIGN_OR_RETURN(const TMeshHeader header, DecodeHeader(header_fields, sizes));
   ISPQ_ASSIGN_OR_RETURN(TMeshBuilder builder, TMeshBuilder::Create(header, options));
-  ISPQ_RETURN_IF_ERROR(AddElements(proto, IdRanges(header.sizes), builder));
+  ElementDecoder decoder(sizes, builder);
+  ISPQ_RETURN_IF_ERROR(elements(decoder));
+  if (!decoder.HasAll(sizes)) {
+    return InvalidArgument("the mesh's element lists changed while it was read");
+  }
   ISPQ_RETURN_IF_ERROR(builder.Connect());
-  ISPQ_ASSIGN_OR_RETURN(const std::vector<CriticalEntity> listed, DecodeCriticalEntities(proto));
+  ISPQ_ASSIGN_OR_RETURN(const std::vector<CriticalEntity> listed,
+                        DecodeCriticalEntities(header_fields));
   ISPQ_RETURN_IF_ERROR(builder.DeriveCriticalEntities(listed));
-  for (const v1::Level& level : proto.levels()) {
+  for (const v1::Level& level : header_fields.levels()) {
     ISPQ_RETURN_IF_ERROR(builder.AddLevel({level.percent(), level.scaling()}));
   }
   ISPQ_ASSIGN_OR_RETURN(TMesh mesh, std::move(builder).Build());
-  ISPQ_RETURN_IF_ERROR(CheckTranslations(proto, mesh, options.length_tolerance));
+  ISPQ_RETURN_IF_ERROR(CheckTranslations(decoder.translations(), mesh, options.length_tolerance));
   return mesh;
+}
+
+absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
+                                     const TMeshValidationOptions& options) {
+  const TMeshSizes sizes{proto.nodes_size(), proto.arcs_size(), proto.patches_size(),
+                         proto.blocks_size()};
+  return TMeshFromParts(
+      proto, sizes,
+      [&proto](TMeshElementSink& sink) -> absl::Status {
+        for (const v1::Node& node : proto.nodes()) ISPQ_RETURN_IF_ERROR(sink.Node(node));
+        for (const v1::Arc& arc : proto.arcs()) ISPQ_RETURN_IF_ERROR(sink.Arc(arc));
+        for (const v1::Patch& patch : proto.patches()) ISPQ_RETURN_IF_ERROR(sink.Patch(patch));
+        for (const v1::Block& block : proto.blocks()) ISPQ_RETURN_IF_ERROR(sink.Block(block));
+        return absl::OkStatus();
+      },
+      options);
 }
 
 }  // namespace ispq

@@ -16,6 +16,8 @@
 #ifndef ISPQ_CORE_PROTO_TMESH_FROM_PROTO_H_
 #define ISPQ_CORE_PROTO_TMESH_FROM_PROTO_H_
 
+#include <functional>
+
 #include "absl/status/statusor.h"
 #include "core/tmesh.h"
 #include "core/tmesh_builder.h"
@@ -24,6 +26,24 @@
 namespace ispq {
 
 absl::StatusOr<TMesh> TMeshFromProto(const v1::TMesh& proto,
+                                     const TMeshValidationOptions& options = {});
+
+// The same for a mesh whose elements are not held in one message (core/proto/tmesh_from_wire.h
+// reads them one at a time from the serialized bytes): `header_fields` carries every field but
+// the four element lists, `sizes` their lengths, and `elements` hands the nodes, then the arcs,
+// the patches and the blocks to the sink in id order (sizes.nodes nodes, and so on).
+class TMeshElementSink {
+ public:
+  virtual ~TMeshElementSink() = default;
+  virtual absl::Status Node(const v1::Node& node) = 0;
+  virtual absl::Status Arc(const v1::Arc& arc) = 0;
+  virtual absl::Status Patch(const v1::Patch& patch) = 0;
+  virtual absl::Status Block(const v1::Block& block) = 0;
+};
+using TMeshElementSource = std::function<absl::Status(TMeshElementSink& sink)>;
+
+absl::StatusOr<TMesh> TMeshFromParts(const v1::TMesh& header_fields, const TMeshSizes& sizes,
+                                     const TMeshElementSource& elements,
                                      const TMeshValidationOptions& options = {});
 
 }  // namespace ispq

@@ -7,10 +7,13 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <set>
 #include <string>
 
+#include "core/proto/tmesh_from_wire.h"
 #include "gmock/gmock.h"
+#include "google/protobuf/io/zero_copy_stream_impl_lite.h"
 #include "gtest/gtest.h"
 #include "tests/support/test_data.h"
 
@@ -389,6 +392,13 @@ TEST_P(CorruptionTest, IsRejectedNamingTheElement) {
   ASSERT_FALSE(result.ok()) << GetParam().name << " was accepted";
   EXPECT_EQ(result.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(result.status().message()), HasSubstr(GetParam().expected));
+  // Decoded from its bytes one element at a time (core/proto/tmesh_from_wire.h): the same answer.
+  const std::string bytes = mesh.SerializeAsString();
+  const absl::StatusOr<TMesh> from_wire = TMeshFromWire([&bytes] {
+    return std::make_unique<google::protobuf::io::ArrayInputStream>(bytes.data(),
+                                                                    static_cast<int>(bytes.size()));
+  });
+  EXPECT_EQ(from_wire.status(), result.status());
 }
 
 INSTANTIATE_TEST_SUITE_P(RealFile, CorruptionTest, ::testing::ValuesIn(Corruptions()),
