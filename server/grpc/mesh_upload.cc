@@ -65,6 +65,7 @@ absl::Status MeshUpload::Receive(v1::UploadMeshRequest& message) {
           max_upload_bytes_, " bytes, --max_upload_bytes)"));
     }
     chunks_.push_back(CreateMeshRequestPrefix(message.total_bytes()));
+    prefix_size_ = chunks_[0].size();
     absl::StatusOr<MemoryReservation> memory = service_.memory().Reserve(
         MemoryUse::kRequests, message.total_bytes() + chunks_[0].size(), "the upload");
     if (!memory.ok()) return memory.status();
@@ -89,9 +90,10 @@ void MeshUpload::Store() {
   watchdog_.Forget(context_);  // parsing and storing are the service's, bounded by its own limits
   MeshCreation creation;
   creation.principal = principal_;
-  creation.raw.size = declared_ + static_cast<int64_t>(chunks_[0].size());
+  creation.raw.size = declared_ + static_cast<int64_t>(prefix_size_);
   creation.raw.bytes = std::make_unique<ChunkedRequestBytes>(std::move(chunks_));
   creation.raw.memory = std::move(memory_);
+  creation.mesh_offset = static_cast<int64_t>(prefix_size_);
   creation.abandoned = [context = context_] { return context->IsCancelled(); };
   creation.answer = [this](const absl::StatusOr<v1::Mesh>& mesh) { Answer(mesh); };
   service_.CreateMesh(std::move(creation));

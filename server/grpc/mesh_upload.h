@@ -61,6 +61,7 @@ class MeshUpload final : public grpc::ServerReadReactor<grpc::ByteBuffer> {
   int64_t declared_ = 0;  // 0 until the first message
   int64_t received_ = 0;
   std::vector<std::string> chunks_;  // the CreateMeshRequest framing first
+  size_t prefix_size_ = 0;           // of that framing
   MemoryReservation memory_;
   MemoryReservation response_memory_;  // held until the response is sent
 };

@@ -8,6 +8,7 @@
 #include "core/mesh_stats.h"
 #include "core/proto/mesh_stats_proto.h"
 #include "core/proto/tmesh_from_proto.h"
+#include "core/proto/tmesh_from_wire.h"
 
 namespace ispq::server {
 namespace {
@@ -29,16 +30,34 @@ AdmittedMesh MakeAdmittedMesh(TMesh mesh, MemoryReservation memory) {
 }  // namespace
 
 absl::Status CheckMeshSize(const v1::TMesh& proto, int max_arcs) {
-  if (proto.arcs_size() <= max_arcs) return absl::OkStatus();
-  return absl::InvalidArgumentError(absl::StrCat("mesh has ", proto.arcs_size(),
-                                                 " arcs; this server accepts at most ", max_arcs,
-                                                 " (--max_arcs)"));
+  return CheckArcCount(proto.arcs_size(), max_arcs);
+}
+
+absl::Status CheckArcCount(int64_t arcs, int max_arcs) {
+  if (arcs <= max_arcs) return absl::OkStatus();
+  return absl::InvalidArgumentError(absl::StrCat(
+      "mesh has ", arcs, " arcs; this server accepts at most ", max_arcs, " (--max_arcs)"));
 }
 
 absl::StatusOr<AdmittedMesh> AdmitMesh(const v1::TMesh& proto, int max_arcs,
                                        MemoryReservation memory) {
   if (absl::Status size = CheckMeshSize(proto, max_arcs); !size.ok()) return size;
   absl::StatusOr<TMesh> mesh = TMeshFromProto(proto);
+  if (!mesh.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("invalid T-mesh: ", std::string(mesh.status().message())));
+  }
+  return MakeAdmittedMesh(*std::move(mesh), std::move(memory));
+}
+
+absl::StatusOr<AdmittedMesh> AdmitMeshBytes(const TMeshBytesReader& read, int max_arcs,
+                                            MemoryReservation memory) {
+  absl::Status size = absl::OkStatus();  // the size limit's answer, passed on as it is
+  absl::StatusOr<TMesh> mesh = TMeshFromWire(read, [&](const TMeshWireCounts& counts) {
+    size = CheckArcCount(counts.arcs, max_arcs);
+    return size;
+  });
+  if (!size.ok()) return size;
   if (!mesh.ok()) {
     return absl::InvalidArgumentError(
         absl::StrCat("invalid T-mesh: ", std::string(mesh.status().message())));

@@ -221,16 +221,54 @@ void JobService::CreateMesh(MeshCreation creation) {
 
 absl::StatusOr<v1::Mesh> JobService::AdmitCreateMesh(MeshCreation& creation) {
   if (creation.abandoned && creation.abandoned()) return CancelledBeforeAdmission();
+  if (creation.mesh_offset > 0) return AdmitUploadedMesh(creation);
   absl::StatusOr<ParsedRequest<v1::CreateMeshRequest>> parsed =
       ParseWithinBudget<v1::CreateMeshRequest>(creation.raw, memory_);
   if (!parsed.ok()) return parsed.status();
   absl::StatusOr<AdmittedMesh> mesh = StoreableMesh(parsed->message.mesh(), creation.raw.size);
+  return StoreMesh(std::move(mesh), parsed->message.mesh(), creation.principal);
+}
+
+absl::StatusOr<v1::Mesh> JobService::AdmitUploadedMesh(MeshCreation& creation) {
+  // Decoded from the bytes as they arrived, never parsed as one message: the bytes and the
+  // decoded mesh are all the upload costs (the parsed message was 5x the decoded mesh at 1M arcs).
+  const RequestBytes& bytes = *creation.raw.bytes;
+  const int64_t offset = creation.mesh_offset;
+  const TMeshBytesReader read = [&bytes, offset] {
+    std::unique_ptr<google::protobuf::io::ZeroCopyInputStream> stream = bytes.Read();
+    stream->Skip(static_cast<int>(offset));
+    return stream;
+  };
+  absl::StatusOr<MemoryReservation> memory =
+      memory_.Reserve(MemoryUse::kStoredMeshes, MeshBytes(creation.raw.size - offset), "the mesh");
+  if (!memory.ok()) {
+    Discard(creation.raw);
+    return memory.status();
+  }
+  absl::StatusOr<AdmittedMesh> mesh = AdmitMeshBytes(read, limits_.max_arcs, *std::move(memory));
+  const MeshBytesSource serialized([&bytes, offset] {
+    std::string mesh_bytes;
+    std::unique_ptr<google::protobuf::io::ZeroCopyInputStream> in = bytes.Read();
+    in->Skip(static_cast<int>(offset));
+    const void* data;
+    int size;
+    while (in->Next(&data, &size)) mesh_bytes.append(static_cast<const char*>(data), size);
+    return mesh_bytes;
+  });
+  absl::StatusOr<v1::Mesh> answer = StoreMesh(std::move(mesh), serialized, creation.principal);
+  Discard(creation.raw);
+  return answer;
+}
+
+absl::StatusOr<v1::Mesh> JobService::StoreMesh(absl::StatusOr<AdmittedMesh> mesh,
+                                               const MeshBytesSource& bytes,
+                                               const Principal& principal) {
   if (!mesh.ok()) {
     if (absl::IsInvalidArgument(mesh.status())) metrics_.RecordRejectedInvalid();
     return mesh.status();
   }
   absl::StatusOr<std::shared_ptr<const StoredMesh>> stored =
-      meshes_.Add(*std::move(mesh), parsed->message.mesh(), creation.principal.name, absl::Now());
+      meshes_.Add(*std::move(mesh), bytes, principal.name, absl::Now());
   if (!stored.ok()) return stored.status();
   v1::Mesh answer = MeshToProto(**stored);
   spdlog::info("event=mesh_created mesh={} owner={} display_name={} arcs={}", answer.name(),

@@ -56,6 +56,10 @@ struct WatchTarget {
 struct MeshCreation {
   Principal principal;
   RawRequest raw;  // a serialized ispq.v1.CreateMeshRequest, accounted in the memory budget
+  // > 0: `raw` is exactly this many bytes of the request's field `mesh` (its tag and length) and
+  // the mesh's bytes (an upload, server/grpc/mesh_upload.h), which are then decoded one element
+  // at a time instead of parsed as one message.
+  int64_t mesh_offset = 0;
   // Whether the caller has gone away; admission then stops before parsing. Empty: never.
   std::function<bool()> abandoned;
   // Called exactly once, on whichever thread decided it (the caller's own or an admission one).
@@ -137,6 +141,10 @@ class JobService {
   std::optional<JobSubmission::Outcome> DecideSubmission(
       const std::shared_ptr<JobSubmission>& submission);
   absl::StatusOr<v1::Mesh> AdmitCreateMesh(MeshCreation& creation);
+  absl::StatusOr<v1::Mesh> AdmitUploadedMesh(MeshCreation& creation);
+  // Stores an admitted mesh (or counts why it was refused) and answers with its resource.
+  absl::StatusOr<v1::Mesh> StoreMesh(absl::StatusOr<AdmittedMesh> mesh,
+                                     const MeshBytesSource& bytes, const Principal& principal);
   // The mesh of a CreateMesh request, validated, with memory reserved in the store's account.
   absl::StatusOr<AdmittedMesh> StoreableMesh(const v1::TMesh& proto, int64_t request_bytes);
   // Runs `admit` at once for a small request (on a store-call thread with a shared store), else

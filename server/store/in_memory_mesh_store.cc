@@ -10,10 +10,8 @@ namespace ispq::server {
 
 InMemoryMeshStore::InMemoryMeshStore(int capacity) : capacity_(capacity) {}
 
-absl::StatusOr<std::shared_ptr<const StoredMesh>> InMemoryMeshStore::Add(AdmittedMesh admitted,
-                                                                         const v1::TMesh& /*proto*/,
-                                                                         std::string owner,
-                                                                         absl::Time now) {
+absl::StatusOr<std::shared_ptr<const StoredMesh>> InMemoryMeshStore::Add(
+    AdmittedMesh admitted, const MeshBytesSource& /*bytes*/, std::string owner, absl::Time now) {
   auto stored = std::make_shared<StoredMesh>();
   stored->admitted = std::move(admitted);
   stored->owner = std::move(owner);

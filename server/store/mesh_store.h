@@ -2,9 +2,9 @@
 // Meshes uploaded with CreateMesh, for repeated runs without resending them.
 //
 // Memory is bounded by a count and by the memory budget: beyond the count, or when the budget
-// needs room (server/admission/memory_admission.h), the least recently used mesh is evicted (a job that
-// already runs on it keeps its own reference, so eviction never disturbs a job; a later request
-// naming the evicted mesh gets NOT_FOUND and uploads it again). Each mesh belongs to the
+// needs room (server/admission/memory_admission.h), the least recently used mesh is evicted (a job
+// that already runs on it keeps its own reference, so eviction never disturbs a job; a later
+// request naming the evicted mesh gets NOT_FOUND and uploads it again). Each mesh belongs to the
 // principal that created it; the store keeps the owner and leaves access checks to the service.
 // Thread-safe.
 //
@@ -13,9 +13,11 @@
 #ifndef ISPQ_SERVER_STORE_MESH_STORE_H_
 #define ISPQ_SERVER_STORE_MESH_STORE_H_
 
+#include <functional>
 #include <list>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "absl/base/thread_annotations.h"
 #include "absl/container/flat_hash_map.h"
@@ -26,6 +28,22 @@
 #include "server/model/mesh_admission.h"
 
 namespace ispq::server {
+
+// The binary protobuf of a mesh being stored, made only for a store that keeps it (the shared
+// store does; the in-memory one keeps the decoded mesh alone): from the message it was decoded
+// from, or from the bytes it was decoded from when it was never one message (an upload).
+class MeshBytesSource {
+ public:
+  MeshBytesSource(const v1::TMesh& proto)  // NOLINT(google-explicit-constructor): the usual case
+      : serialize_([&proto] { return proto.SerializeAsString(); }) {}
+  explicit MeshBytesSource(std::function<std::string()> serialize)
+      : serialize_(std::move(serialize)) {}
+
+  std::string Serialize() const { return serialize_(); }
+
+ private:
+  std::function<std::string()> serialize_;
+};
 
 struct StoredMesh {
   std::string id;
@@ -38,10 +56,10 @@ class MeshStore {
  public:
   virtual ~MeshStore() = default;
 
-  // Stores `admitted` (validated from `proto`) under a new id. UNAVAILABLE if a shared store
+  // Stores `admitted` (validated from `bytes`) under a new id. UNAVAILABLE if a shared store
   // cannot be reached.
   virtual absl::StatusOr<std::shared_ptr<const StoredMesh>> Add(AdmittedMesh admitted,
-                                                                const v1::TMesh& proto,
+                                                                const MeshBytesSource& bytes,
                                                                 std::string owner,
                                                                 absl::Time now) = 0;
   // The mesh with this id, marked as used; nullptr if unknown or evicted.
@@ -60,8 +78,8 @@ class InMemoryMeshStore final : public MeshStore {
   explicit InMemoryMeshStore(int capacity);
 
   absl::StatusOr<std::shared_ptr<const StoredMesh>> Add(AdmittedMesh admitted,
-                                                        const v1::TMesh& proto, std::string owner,
-                                                        absl::Time now) override;
+                                                        const MeshBytesSource& bytes,
+                                                        std::string owner, absl::Time now) override;
   std::shared_ptr<const StoredMesh> Find(const std::string& id) override;
   bool Remove(const std::string& id) override;
   bool EvictLeastRecentlyUsed() override;

@@ -205,6 +205,20 @@ TEST_F(MeshUploadTest, BytesThatAreNoValidMeshAreNamed) {
   ASSERT_NO_FATAL_FAILURE(ExpectRequestMemoryReleased());
 }
 
+// The arc count is checked on the uploaded bytes before any element is decoded.
+TEST(MeshUploadLimitsTest, AnUploadAboveMaxArcsIsRefusedNamingTheFlag) {
+  const v1::TMesh mesh = FemurCopies(2);
+  std::unique_ptr<ServerProcess> server =
+      StartServerOrFail({absl::StrCat("--max_arcs=", mesh.arcs_size() - 1)});
+  ASSERT_NE(server, nullptr);
+  client::QuantizerClient client = ClientOf(*server);
+  const absl::StatusOr<v1::Mesh> refused = client.UploadMesh(mesh, /*chunk_bytes=*/4096);
+  EXPECT_EQ(refused.status().code(), absl::StatusCode::kInvalidArgument) << refused.status();
+  EXPECT_THAT(std::string(refused.status().message()),
+              HasSubstr(absl::StrCat("mesh has ", mesh.arcs_size(), " arcs")));
+  EXPECT_THAT(std::string(refused.status().message()), HasSubstr("--max_arcs"));
+}
+
 TEST(MeshUploadAuthTest, AnUploadWithoutTheTokenIsRefused) {
   std::unique_ptr<ServerProcess> server = StartServerOrFail({"--auth_token=upload-secret"});
   ASSERT_NE(server, nullptr);

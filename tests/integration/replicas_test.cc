@@ -332,6 +332,27 @@ TEST_F(ReplicasTest, RestartingEveryReplicaKeepsEveryJob) {
   }
 }
 
+// An uploaded mesh (UploadMesh: decoded from its chunks, never parsed as one message) is kept in
+// the shared store as its binary protobuf: another replica, which never saw the upload, decodes
+// it from there and runs a job on it by name, with the q a job on the inline mesh gets.
+TEST_F(ReplicasTest, AMeshUploadedToOneReplicaIsQuantizedByAnother) {
+  ASSERT_NO_FATAL_FAILURE(StartReplicas(2));
+  const v1::TMesh mesh = FemurCopies(3);
+  client::QuantizerClient uploader = Client(0);
+  const absl::StatusOr<v1::Mesh> stored = uploader.UploadMesh(mesh, /*chunk_bytes=*/4096);
+  ASSERT_TRUE(stored.ok()) << stored.status();
+  EXPECT_EQ(stored->mesh_stats().arcs(), mesh.arcs_size());
+  client::QuantizerClient other = Client(1);
+  const client::JobOutcome by_name =
+      other.Quantize(StoredMeshRequest(stored->name(), 25), StreamFor(kJobTimeout));
+  ASSERT_TRUE(by_name.status.ok()) << by_name.status;
+  ASSERT_TRUE(IsValidResult(mesh, *by_name.result));
+  const client::JobOutcome inline_mesh =
+      other.Quantize(RequestFor(mesh, 25), StreamFor(kJobTimeout));
+  ASSERT_TRUE(inline_mesh.status.ok()) << inline_mesh.status;
+  EXPECT_EQ(absl::StrJoin(by_name.result->q(), ","), absl::StrJoin(inline_mesh.result->q(), ","));
+}
+
 TEST_F(ReplicasTest, RoundRobinSpreadsCallsOverEveryReplica) {
   ASSERT_NO_FATAL_FAILURE(StartReplicas(3));
   client::ServerConnection connection;

@@ -15,10 +15,8 @@ PostgresMeshStore::PostgresMeshStore(std::shared_ptr<PostgresConnections> connec
                                      int max_arcs)
     : connections_(std::move(connections)), capacity_(capacity), max_arcs_(max_arcs) {}
 
-absl::StatusOr<std::shared_ptr<const StoredMesh>> PostgresMeshStore::Add(AdmittedMesh admitted,
-                                                                         const v1::TMesh& proto,
-                                                                         std::string owner,
-                                                                         absl::Time now) {
+absl::StatusOr<std::shared_ptr<const StoredMesh>> PostgresMeshStore::Add(
+    AdmittedMesh admitted, const MeshBytesSource& bytes, std::string owner, absl::Time now) {
   auto stored = std::make_shared<StoredMesh>();
   stored->id = NewResourceId();
   stored->owner = std::move(owner);
@@ -29,8 +27,8 @@ absl::StatusOr<std::shared_ptr<const StoredMesh>> PostgresMeshStore::Add(Admitte
     work.exec_params(
         "INSERT INTO ispq_meshes (id, owner, stats, mesh, create_time_ns) "
         "VALUES ($1, $2, $3, $4, $5)",
-        stored->id, stored->owner, ProtoBytes(stored->admitted.stats), ProtoBytes(proto),
-        absl::ToUnixNanos(now));
+        stored->id, stored->owner, ProtoBytes(stored->admitted.stats),
+        pqxx::binarystring(bytes.Serialize()), absl::ToUnixNanos(now));
     work.exec_params(
         "DELETE FROM ispq_meshes WHERE id IN (SELECT id FROM ispq_meshes "
         "ORDER BY last_used DESC OFFSET $1)",

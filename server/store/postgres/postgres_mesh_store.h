@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // Stored meshes (CreateMesh) in the PostgreSQL job store's database (table ispq_meshes, see
-// server/store/postgres/postgres_schema.h), so that a mesh uploaded through one replica can be named in
-// requests to any other. The serialized ispq.v1.TMesh is stored; a replica that needs the mesh
-// decodes and validates it again (server/model/mesh_admission.h) and shares the decoded mesh between
-// the jobs that hold it at once (a weak cache, so nothing stays in memory that no job uses).
+// server/store/postgres/postgres_schema.h), so that a mesh uploaded through one replica can be
+// named in requests to any other. The serialized ispq.v1.TMesh is stored; a replica that needs the
+// mesh decodes and validates it again (server/model/mesh_admission.h) and shares the decoded mesh
+// between the jobs that hold it at once (a weak cache, so nothing stays in memory that no job
+// uses).
 //
 // The count limit (--max_stored_meshes) holds for the whole database: beyond it, the least
 // recently used meshes are deleted. Memory-budget eviction has nothing to evict here: meshes are
@@ -28,8 +29,8 @@ class PostgresMeshStore final : public MeshStore {
   PostgresMeshStore(std::shared_ptr<PostgresConnections> connections, int capacity, int max_arcs);
 
   absl::StatusOr<std::shared_ptr<const StoredMesh>> Add(AdmittedMesh admitted,
-                                                        const v1::TMesh& proto, std::string owner,
-                                                        absl::Time now) override;
+                                                        const MeshBytesSource& bytes,
+                                                        std::string owner, absl::Time now) override;
   std::shared_ptr<const StoredMesh> Find(const std::string& id) override;
   bool Remove(const std::string& id) override;
   bool EvictLeastRecentlyUsed() override { return false; }
