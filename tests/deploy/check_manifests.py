@@ -209,6 +209,7 @@ def problems(docs, pinned_by_digest=False):
     found += network_policy_problems(by_kind, spec, container, http_port)
     found += scrape_problems(by_kind, spec["template"], container, http_port, http_tls)
     found += ingress_problems(by_kind, container, args, http_port)
+    found += database_connection_problems(by_kind, spec, args)
     target = {"apiVersion": "apps/v1", "kind": "Deployment", "name": "ispq-server"}
     hpas = [h for h in by_kind.get("HorizontalPodAutoscaler", [])
             if h["spec"]["scaleTargetRef"] == target]
@@ -226,6 +227,28 @@ def problems(docs, pinned_by_digest=False):
                 found.append(f"HPA: Pods metric {metric['pods']['metric']['name']} is not one "
                              "that /metrics exports")
     return found
+
+
+def database_connection_problems(by_kind, spec, args):
+    """The in-cluster PostgreSQL takes the connections of the most replicas the autoscaler (HPA
+    or ScaledObject) may run, plus a rollout's surge: each holds --workers + 8 (OpenStores in
+    server/quantizer_server.cc: a pool of workers + 6, the listener, the reachability probe)."""
+    database = [s for s in by_kind.get("StatefulSet", [])
+                if s["metadata"]["name"] == "ispq-postgres"]
+    if not database:
+        return []
+    most = max([h["spec"]["maxReplicas"] for h in by_kind.get("HorizontalPodAutoscaler", [])] +
+               [o["spec"].get("maxReplicaCount", 100) for o in by_kind.get("ScaledObject", [])] +
+               [spec.get("replicas", 1)])
+    surge = spec.get("strategy", {}).get("rollingUpdate", {}).get("maxSurge", 1)
+    needed = (most + surge) * (int(flag_value(args, "workers") or 1) + 8) + 10
+    container = database[0]["spec"]["template"]["spec"]["containers"][0]
+    arguments = " ".join(container.get("args", []))
+    match = re.search(r"max_connections=(\d+)", arguments)
+    have = int(match.group(1)) if match else 100
+    if have < needed:
+        return [f"ispq-postgres: max_connections {have} < {needed} for {most} + {surge} replicas"]
+    return []
 
 
 def network_policy_problems(by_kind, spec, container, http_port):
@@ -380,11 +403,13 @@ def keda_problems(by_kind, scaled, hpas, container):
                 found.append(f"ScaledObject {name}: authenticationRef {reference} names no "
                              "TriggerAuthentication of the manifests")
                 continue
-            sources = {(r["parameter"], r["name"], r["key"])
+            # The same Secret; another key of it is allowed (a URI whose sslrootcert path
+            # KEDA's operator pod lacks needs one of its own: deploy/README.md).
+            sources = {(r["parameter"], r["name"])
                        for r in authentication["spec"].get("secretTargetRef", [])}
-            if ("connection", store_secret.get("name"), store_secret.get("key")) not in sources:
+            if ("connection", store_secret.get("name")) not in sources:
                 found.append(f"TriggerAuthentication {reference['name']}: connection from the "
-                             f"Deployment's job store Secret {store_secret}")
+                             f"Deployment's job store Secret {store_secret.get('name')}")
     return found
     return found
 
@@ -441,6 +466,8 @@ BREAKERS = {
         "host", "elsewhere.example.com")),
     "ingress backend": ("Ingress", lambda d: _one(d, "Ingress")["spec"]["rules"][0]["http"]
                         ["paths"][0]["backend"]["service"].__setitem__("port", {"name": "grpc"})),
+    "database connections": ("StatefulSet", lambda d: _one(d, "StatefulSet", "ispq-postgres")
+                             ["spec"]["template"]["spec"]["containers"][0].pop("args")),
     "hpa metric": ("HorizontalPodAutoscaler", lambda d: _one(d, "HorizontalPodAutoscaler")
                    ["spec"]["metrics"][1]["pods"]["metric"].__setitem__("name",
                                                                         "ispq_queued_jobs")),
