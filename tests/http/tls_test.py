@@ -4,8 +4,12 @@ against a live server with certificates made here by openssl: /healthz, /readyz,
 by Prometheus' own parser), the web view, a submission and its event stream answer over HTTPS to a
 client that verifies the server against the CA; the same port refuses plaintext HTTP and a client
 that does not trust the CA; the HTTP side's own certificate and --http_plaintext override the
-default; and certificate or key files that cannot be used stop the server at start with an error
-naming the file."""
+default; headless Chromium, trusting the server's key, reaches the web view over HTTPS, follows a
+job to its result through the page's event stream and fetches /metrics, and refuses the page
+without that trust; and certificate or key files that cannot be used stop the server at start with
+an error naming the file."""
+import base64
+import hashlib
 import http.client
 import json
 import os
@@ -20,6 +24,7 @@ from prometheus_client.parser import text_string_to_metric_families
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ispq_http_server as ispq  # noqa: E402
+from devtools_pipe import Browser  # noqa: E402
 
 
 def openssl(*args, cwd):
@@ -54,6 +59,17 @@ def https(port, ca_file, method, path, body=None, headers=None, host="localhost"
         return response.status, dict(response.getheaders()), response.read().decode()
     finally:
         connection.close()
+
+
+def spki_sha256(cert_file):
+    """base64(SHA-256 of the certificate's SubjectPublicKeyInfo): what Chromium's
+    --ignore-certificate-errors-spki-list takes to trust this one key (headless Chromium has no
+    CA store a test may add to without NSS tools)."""
+    public = subprocess.run(["openssl", "x509", "-in", cert_file, "-pubkey", "-noout"],
+                            check=True, capture_output=True, timeout=60).stdout
+    der = subprocess.run(["openssl", "pkey", "-pubin", "-outform", "der"], input=public,
+                         check=True, capture_output=True, timeout=60).stdout
+    return base64.b64encode(hashlib.sha256(der).digest()).decode()
 
 
 class HttpsTest(unittest.TestCase):
@@ -109,6 +125,39 @@ class HttpsTest(unittest.TestCase):
             # A client that does not trust the server's CA refuses it: it is this certificate.
             with self.assertRaises(ssl.SSLCertVerificationError):
                 https(s.http_port, self.other_ca, "GET", "/healthz")
+
+    def test_a_browser_follows_a_job_in_the_web_view_over_https(self):
+        with ispq.Server("--workers=1", f"--tls_cert={self.cert}", f"--tls_key={self.key}") as s:
+            url = f"https://localhost:{s.http_port}/"
+            # Without trust in the server's certificate, the browser refuses the page.
+            with Browser() as untrusting:
+                navigated = untrusting.call("Page.navigate", {"url": url}, session=True)
+                self.assertIn("CERT", navigated.get("errorText", ""), navigated)
+            body = ('{"mesh":' + ispq.bundled("hex-me/s07c_notch.tmesh.json") +
+                    ',"options":{"scaling":{"levelPercent":100}}}')
+            status, _, text = https(s.http_port, self.ca, "POST", "/v1/jobs", body=body,
+                                    headers=ispq.JSON)
+            self.assertEqual(status, 200, text)
+            job_id = json.loads(text)["name"].split("/")[1]
+            trust = f"--ignore-certificate-errors-spki-list={spki_sha256(self.cert)}"
+            with Browser(extra_args=[trust]) as browser:
+                navigated = browser.call("Page.navigate", {"url": url}, session=True)
+                self.assertNotIn("errorText", navigated)
+                browser.wait_for("document.readyState === 'complete' && "
+                                 "document.getElementById('upload-form') !== null")
+                self.assertEqual(browser.evaluate("location.protocol"), "https:")
+                # The job list (refreshed every second over HTTPS) shows the job; clicking it
+                # follows it over an event stream to its result.
+                row = f"document.querySelector('#jobs tr[data-job=\"jobs/{job_id}\"]')"
+                browser.wait_for(f"{row} !== null", timeout=120)
+                browser.evaluate(f"{row}.click()")
+                browser.wait_for("!document.getElementById('result').hidden", timeout=120)
+                self.assertEqual(browser.evaluate(
+                    "document.getElementById('result-valid').textContent"), "yes")
+                metrics = browser.evaluate("fetch('/metrics').then(r => r.text())",
+                                           await_promise=True)
+                self.assertIn("ispq_ready 1", metrics)
+                self.assertIn('ispq_jobs_finished_total{state="succeeded"} 1', metrics)
 
     def test_own_certificate_and_plaintext_override_the_default(self):
         with ispq.Server(f"--tls_cert={self.cert}", f"--tls_key={self.key}",
