@@ -12,8 +12,9 @@ or a ServiceMonitor), an Ingress whose host the server answers, no service-accou
 store's URI from a Secret, dual-stack listen, a pinned image, and a termination grace period that
 covers the server's shutdown.
 
-KEDA's ScaledObject and TriggerAuthentication are validated against the CRDs' schemas
-(tests/deploy/schemas, copied from KEDA with their provenance; crd_schema.py), and beyond the
+Custom resources are validated against their CRDs' schemas (tests/deploy/schemas, copied from
+KEDA and the Prometheus Operator with their provenance; crd_schema.py): KEDA's ScaledObject and
+TriggerAuthentication, the ServiceMonitor. Core kinds are held to the rules above. Beyond KEDA's
 schema: the postgresql trigger counts the queue with the server's own query
 (PostgresJobStore::QueuedCount) and reads the job store's URI from the Secret the Deployment reads
 it from, a cpu trigger is there, and no second HPA targets the Deployment.
@@ -209,6 +210,7 @@ def problems(docs, pinned_by_digest=False):
     found += network_policy_problems(by_kind, spec, container, http_port)
     found += scrape_problems(by_kind, spec["template"], container, http_port, http_tls)
     found += ingress_problems(by_kind, container, args, http_port)
+    found += schema_problems(by_kind)
     found += database_connection_problems(by_kind, spec, args)
     target = {"apiVersion": "apps/v1", "kind": "Deployment", "name": "ispq-server"}
     hpas = [h for h in by_kind.get("HorizontalPodAutoscaler", [])
@@ -226,6 +228,18 @@ def problems(docs, pinned_by_digest=False):
                     metric["pods"]["metric"]["name"] not in exported_gauges():
                 found.append(f"HPA: Pods metric {metric['pods']['metric']['name']} is not one "
                              "that /metrics exports")
+    return found
+
+
+def schema_problems(by_kind):
+    """Every object of a custom resource with a schema in tests/deploy/schemas against it."""
+    found = []
+    for docs in by_kind.values():
+        for doc in docs:
+            schema = SCHEMAS.get((doc["apiVersion"], doc["kind"]))
+            if schema is not None:
+                found += [f"{doc['kind']} {doc['metadata']['name']}: {e}"
+                          for e in crd_schema.validate(doc, schema)]
     return found
 
 
@@ -343,15 +357,11 @@ def keda_problems(by_kind, scaled, hpas, container):
     """KEDA's objects validate against their CRDs and count what the server counts."""
     found = []
     for doc in by_kind.get("ScaledObject", []) + by_kind.get("TriggerAuthentication", []):
-        schema = SCHEMAS.get((doc["apiVersion"], doc["kind"]))
-        if schema is None:
+        if (doc["apiVersion"], doc["kind"]) not in SCHEMAS:
             found.append(f"{doc['kind']} {doc['metadata']['name']}: no schema for "
-                         f"{doc['apiVersion']}")
-            continue
-        found += [f"{doc['kind']} {doc['metadata']['name']}: {e}"
-                  for e in crd_schema.validate(doc, schema)]
-    if found:
-        return found
+                         f"{doc['apiVersion']} (tests/deploy/schemas)")
+    if found or schema_problems(by_kind):
+        return found  # schema_problems reports the rest; the rules below need valid objects
     if hpas:
         found.append("an HPA beside the ScaledObject: KEDA makes its own, two would fight")
     env = {e["name"]: e for e in container.get("env", [])}
@@ -462,6 +472,8 @@ BREAKERS = {
                              ["endpoints"][0].__setitem__("port", "grpc")),
     "service monitor scheme": ("ServiceMonitor", lambda d: _one(d, "ServiceMonitor")["spec"]
                                ["endpoints"][0].__setitem__("scheme", "http")),
+    "service monitor schema": ("ServiceMonitor", lambda d: _one(d, "ServiceMonitor")["spec"]
+                               ["endpoints"][0].__setitem__("interval", "15 seconds")),
     "ingress host": ("Ingress", lambda d: _one(d, "Ingress")["spec"]["rules"][0].__setitem__(
         "host", "elsewhere.example.com")),
     "ingress backend": ("Ingress", lambda d: _one(d, "Ingress")["spec"]["rules"][0]["http"]
