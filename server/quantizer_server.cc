@@ -2,6 +2,7 @@
 #include "server/quantizer_server.h"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include "absl/status/status.h"
@@ -10,6 +11,7 @@
 #include "grpcpp/ext/proto_server_reflection_plugin.h"
 #include "grpcpp/health_check_service_interface.h"
 #include "grpcpp/server_builder.h"
+#include "server/http/http_tls.h"
 #include "server/server_credentials.h"
 #include "server/store/postgres/postgres_job_store.h"
 #include "server/store/postgres/postgres_mesh_store.h"
@@ -107,6 +109,14 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> credentials =
       MakeServerCredentials(config.tls);
   if (!credentials.ok()) return credentials.status();
+  // Read and checked before anything starts, like gRPC's, so a bad file stops the server at once.
+  std::optional<http::HttpTlsMaterial> http_tls;
+  if (const TlsFiles files = HttpTlsFiles(config); files.enabled()) {
+    absl::StatusOr<http::HttpTlsMaterial> material =
+        http::LoadHttpTlsMaterial(files.cert, files.key);
+    if (!material.ok()) return material.status();
+    http_tls = *std::move(material);
+  }
 
   absl::StatusOr<Stores> stores = OpenStores(config);
   if (!stores.ok()) return stores.status();
@@ -150,8 +160,8 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
     limits.max_body_bytes = config.max_message_bytes;
     limits.max_event_streams = config.http_max_event_streams;
     limits.allowed_hosts = config.http_allowed_hosts;
-    absl::StatusOr<std::unique_ptr<http::HttpServer>> http =
-        http::HttpServer::Start(config.http_listen_address, std::move(parts), std::move(limits));
+    absl::StatusOr<std::unique_ptr<http::HttpServer>> http = http::HttpServer::Start(
+        config.http_listen_address, std::move(parts), std::move(limits), std::move(http_tls));
     if (!http.ok()) {
       server->Shutdown();
       return http.status();
@@ -163,12 +173,14 @@ absl::StatusOr<std::unique_ptr<QuantizerServer>> QuantizerServer::Start(
   QuantizerServer* const self = server.get();
   server->readiness_ = std::make_unique<ReadinessMonitor>(health, [self] { return self->Ready(); });
   spdlog::info(
-      "event=server_start listen={} port={} http_port={} workers={} max_queued_jobs={} max_arcs={} "
+      "event=server_start listen={} port={} http_port={} http_tls={} workers={} max_queued_jobs={} "
+      "max_arcs={} "
       "max_message_bytes={} max_memory_bytes={} admission_threads={} max_job_seconds={} tls={} "
       "client_certificates={} token_principals={} admin_principals={} job_store={}",
-      config.listen_address, server->port_, server->http_port(), config.workers,
-      config.max_queued_jobs, config.max_arcs, config.max_message_bytes, config.max_memory_bytes,
-      config.admission_threads, absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
+      config.listen_address, server->port_, server->http_port(),
+      server->http_ != nullptr && server->http_->tls(), config.workers, config.max_queued_jobs,
+      config.max_arcs, config.max_message_bytes, config.max_memory_bytes, config.admission_threads,
+      absl::ToDoubleSeconds(config.max_job_time), config.tls.enabled(),
       !config.tls.client_ca.empty(), config.auth_tokens.size(), config.admin_principals.size(),
       config.job_store == "memory" ? "memory" : "postgresql");
   return server;

@@ -61,6 +61,19 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
   if (!config.tls.client_ca.empty() && !config.tls.enabled()) {
     return absl::InvalidArgumentError("--tls_client_ca needs --tls_cert and --tls_key");
   }
+  if (config.http_tls_cert.empty() != config.http_tls_key.empty()) {
+    return absl::InvalidArgumentError("--http_tls_cert and --http_tls_key go together");
+  }
+  if (config.http_listen_address.empty() &&
+      (!config.http_tls_cert.empty() || config.http_plaintext)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(config.http_plaintext ? "--http_plaintext" : "--http_tls_cert",
+                     " needs --http_listen (the HTTP side is off without it)"));
+  }
+  if (config.http_plaintext && !config.http_tls_cert.empty()) {
+    return absl::InvalidArgumentError(
+        "--http_plaintext excludes --http_tls_cert and --http_tls_key");
+  }
   if (config.job_store != "memory" && config.job_store.rfind("postgresql://", 0) != 0 &&
       config.job_store.rfind("postgres://", 0) != 0) {
     return absl::InvalidArgumentError(
@@ -76,6 +89,15 @@ absl::Status ValidateServerConfig(const ServerConfig& config) {
     return absl::InvalidArgumentError("--max_connection_age_seconds must not be negative");
   }
   return absl::OkStatus();
+}
+
+TlsFiles HttpTlsFiles(const ServerConfig& config) {
+  if (config.http_listen_address.empty() || config.http_plaintext) return TlsFiles();
+  if (!config.http_tls_cert.empty()) {
+    return TlsFiles{.cert = config.http_tls_cert, .key = config.http_tls_key, .client_ca = ""};
+  }
+  // Not gRPC's client CA: the HTTP side asks browsers for no certificate (tokens name principals).
+  return TlsFiles{.cert = config.tls.cert, .key = config.tls.key, .client_ca = ""};
 }
 
 }  // namespace ispq::server

@@ -46,7 +46,8 @@ struct ServerConfig {
   std::vector<PrincipalToken> auth_tokens;    // empty: no bearer-token check
   std::vector<std::string> admin_principals;  // server/auth/authenticator.h
   // "memory" (server/store/in_memory_job_store.h) or a postgresql:// URI
-  // (server/store/postgres/postgres_job_store.h), shared by the replicas that use the same database.
+  // (server/store/postgres/postgres_job_store.h), shared by the replicas that use the same
+  // database.
   std::string job_store = "memory";
   absl::Duration job_lease = absl::Seconds(30);  // with PostgreSQL: a claimed job's lease
   // With PostgreSQL: the longest one database operation may take.
@@ -59,7 +60,18 @@ struct ServerConfig {
   int http_max_event_streams = 32;
   // Host header values the HTTP side answers (server/http/origin_policy.h); empty: its defaults.
   std::vector<std::string> http_allowed_hosts;
+  // The HTTP side's own certificate and key (HTTPS); both empty: gRPC's (tls) if it has them.
+  std::string http_tls_cert;
+  std::string http_tls_key;
+  // Plaintext HTTP even when gRPC uses TLS: behind a TLS-terminating proxy, or on a trusted
+  // network.
+  bool http_plaintext = false;
 };
+
+// The certificate and key the HTTP side serves HTTPS with: --http_tls_cert and --http_tls_key,
+// else gRPC's --tls_cert and --tls_key, so that one certificate protects both sides by default;
+// none (plaintext) with --http_plaintext, without --http_listen, or when neither is set.
+TlsFiles HttpTlsFiles(const ServerConfig& config);
 
 // INVALID_ARGUMENT naming the flag for values that cannot work.
 absl::Status ValidateServerConfig(const ServerConfig& config);

@@ -6,6 +6,7 @@
 //               [--tls_cert F --tls_key F [--tls_client_ca F]]
 //               [--auth_token_file F | --auth_tokens_file F] [--admin_principals A,B]
 //               [--http_listen HOST:PORT] [--http_allowed_hosts H1,H2:PORT]
+//               [--http_tls_cert F --http_tls_key F | --http_plaintext]
 //
 // Stops gracefully on SIGTERM or SIGINT and exits 0; exits 1 if it cannot start.
 #include <pthread.h>
@@ -84,8 +85,16 @@ ABSL_FLAG(std::vector<std::string>, admin_principals, {},
           "principals (token principals or client-certificate subjects) that see and act on "
           "every job and mesh, comma-separated");
 ABSL_FLAG(std::string, http_listen, "",
-          "also serve HTTP on HOST:PORT (plaintext): the JSON API, job events as server-sent "
+          "also serve HTTP on HOST:PORT (HTTPS with --http_tls_cert or --tls_cert, see "
+          "--http_plaintext): the JSON API, job events as server-sent "
           "events, /metrics, /healthz, /readyz and the web view; empty: no HTTP side");
+ABSL_FLAG(std::string, http_tls_cert, "",
+          "PEM certificate chain of the HTTP side (HTTPS); default: --tls_cert, so that with TLS "
+          "on gRPC the HTTP side is HTTPS too, with the same certificate");
+ABSL_FLAG(std::string, http_tls_key, "", "PEM private key of --http_tls_cert; default: --tls_key");
+ABSL_FLAG(bool, http_plaintext, false,
+          "serve the HTTP side in plaintext even when gRPC uses TLS (behind a TLS-terminating "
+          "proxy, or on a trusted network)");
 ABSL_FLAG(std::string, http_port_file, "",
           "after binding, write the HTTP port to this file (with port 0 in --http_listen)");
 ABSL_FLAG(int, http_max_event_streams, 32,
@@ -206,6 +215,9 @@ absl::StatusOr<ispq::server::ServerConfig> ConfigFromFlags() {
   config.http_listen_address = absl::GetFlag(FLAGS_http_listen);
   config.http_max_event_streams = absl::GetFlag(FLAGS_http_max_event_streams);
   config.http_allowed_hosts = absl::GetFlag(FLAGS_http_allowed_hosts);
+  config.http_tls_cert = absl::GetFlag(FLAGS_http_tls_cert);
+  config.http_tls_key = absl::GetFlag(FLAGS_http_tls_key);
+  config.http_plaintext = absl::GetFlag(FLAGS_http_plaintext);
   return config;
 }
 

@@ -43,6 +43,9 @@ constexpr absl::Duration kStreamFlushTime = absl::Seconds(3);
 constexpr absl::Duration kResumeTime = absl::Seconds(2);
 constexpr absl::Duration kMaintenancePeriod = absl::Milliseconds(250);
 constexpr int kStreamWakeEvery = 4;  // periods: the streams look at their keepalive each second
+// GnuTLS priorities for HTTPS: its defaults without TLS 1.0 and 1.1, which no current browser or
+// Prometheus speaks and which have known weaknesses.
+constexpr char kTlsPriorities[] = "NORMAL:-VERS-ALL:+VERS-TLS1.3:+VERS-TLS1.2";
 
 absl::StatusOr<std::pair<std::string, int>> HostAndPort(const std::string& address) {
   const size_t colon = address.rfind(':');
@@ -138,9 +141,15 @@ HttpServer::HttpServer(HttpParts parts, HttpLimits limits)
       parse_pool_(kParseThreads, "ispq-http-parse") {}
 
 absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string& listen_address,
-                                                              HttpParts parts, HttpLimits limits) {
+                                                              HttpParts parts, HttpLimits limits,
+                                                              std::optional<HttpTlsMaterial> tls) {
   absl::StatusOr<std::pair<std::string, int>> address = HostAndPort(listen_address);
   if (!address.ok()) return address.status();
+  if (tls.has_value() && !HttpTlsSupported()) {
+    return absl::FailedPreconditionError(
+        "this libmicrohttpd was built without TLS, so the HTTP side cannot serve HTTPS: serve it "
+        "behind a TLS-terminating proxy with --http_plaintext, or use a libmicrohttpd with GnuTLS");
+  }
   const auto& [host, port] = *address;
   bool ipv6 = false;
   const int listening = Listen(host, port, &ipv6);
@@ -148,6 +157,7 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string&
     return absl::UnavailableError(absl::StrCat("cannot listen on ", listen_address, " (HTTP)"));
   }
   std::unique_ptr<HttpServer> http(new HttpServer(std::move(parts), std::move(limits)));
+  http->tls_ = std::move(tls);
   http->listen_socket_ = listening;
   http->port_ = BoundPort(listening);
   http->origins_ = std::make_unique<OriginPolicy>(http->limits_.allowed_hosts, host, http->port_);
@@ -176,18 +186,34 @@ absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
       .deadlines = deadlines_,
       .suspensions = suspensions_,
       .refusals = refusals_});
+  unsigned int flags =
+      MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME | (ipv6 ? MHD_USE_IPv6 : 0);
+  // Without TLS the options end before the certificate's: libmicrohttpd reads up to MHD_OPTION_END.
+  MHD_OptionItem tls_options[] = {
+      {MHD_OPTION_HTTPS_MEM_CERT, 0, nullptr},
+      {MHD_OPTION_HTTPS_MEM_KEY, 0, nullptr},
+      {MHD_OPTION_HTTPS_PRIORITIES, 0, const_cast<char*>(kTlsPriorities)},
+      {MHD_OPTION_END, 0, nullptr}};
+  if (tls_.has_value()) {
+    flags |= MHD_USE_TLS;
+    tls_options[0].ptr_value = tls_->cert_pem.data();
+    tls_options[1].ptr_value = tls_->key_pem.data();
+  } else {
+    tls_options[0] = {MHD_OPTION_END, 0, nullptr};
+  }
   daemon_ = MHD_start_daemon(
-      MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME | (ipv6 ? MHD_USE_IPv6 : 0), 0,
-      nullptr, nullptr, &OnRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET, listen_socket,
-      MHD_OPTION_THREAD_POOL_SIZE, kEventThreads, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
+      flags, 0, nullptr, nullptr, &OnRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET,
+      listen_socket, MHD_OPTION_THREAD_POOL_SIZE, kEventThreads, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
       kConnectionMemoryBytes, MHD_OPTION_CONNECTION_LIMIT,
       static_cast<unsigned>(limits_.max_connections), MHD_OPTION_CONNECTION_TIMEOUT,
       static_cast<unsigned>(absl::ToInt64Seconds(limits_.idle_timeout)),
       MHD_OPTION_NOTIFY_COMPLETED, &OnCompleted, dispatcher_.get(), MHD_OPTION_NOTIFY_CONNECTION,
       &OnConnection, &deadlines_, MHD_OPTION_EXTERNAL_LOGGER, &OnLibraryMessage, nullptr,
-      MHD_OPTION_END);
+      MHD_OPTION_ARRAY, tls_options, MHD_OPTION_END);
   if (daemon_ == nullptr) {
-    return absl::UnavailableError("cannot start the HTTP server (libmicrohttpd)");
+    return absl::UnavailableError(tls_.has_value()
+                                      ? "cannot start the HTTPS server (libmicrohttpd with TLS)"
+                                      : "cannot start the HTTP server (libmicrohttpd)");
   }
   maintenance_ = std::thread([this] { Maintain(); });
   return absl::OkStatus();

@@ -5,9 +5,12 @@
 // live web view (server/http/web_routes.h). It shares the gRPC side's service, authentication,
 // limits and memory budget (server/http/http_parts.h).
 //
-// Plaintext only: it is meant for probes, metrics scrapers and a web view on a trusted network
-// or behind a TLS-terminating proxy. Where gRPC names principals by client certificate and no
-// tokens are configured, the job routes answer 401 (server/auth/authenticator.h).
+// HTTPS when given a certificate and key (server/http/http_tls.h; by default gRPC's, so that a
+// TLS deployment exposes the web view and /metrics over TLS too), else plaintext, for a trusted
+// network or behind a TLS-terminating proxy. TLS runs in libmicrohttpd (GnuTLS, TLS 1.2 and 1.3
+// only) on the same event threads; it asks for no client certificate, so where gRPC names
+// principals by client certificate and no tokens are configured, the job routes answer 401
+// (server/auth/authenticator.h).
 //
 // Bounded before it trusts anything. It runs on GNU libmicrohttpd rather than cpp-httplib, whose
 // Debian build (0.11) inflates gzip and deflate bodies whole before any handler or authentication
@@ -38,6 +41,7 @@
 #define ISPQ_SERVER_HTTP_HTTP_SERVER_H_
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -50,6 +54,7 @@
 #include "server/http/http_parts.h"
 #include "server/http/http_refusals.h"
 #include "server/http/http_router.h"
+#include "server/http/http_tls.h"
 #include "server/http/origin_policy.h"
 #include "server/http/pending_exchanges.h"
 #include "server/http/request_dispatcher.h"
@@ -61,15 +66,18 @@ namespace ispq::server::http {
 
 class HttpServer {
  public:
-  // Binds `listen_address` (HOST:PORT, port 0 picks one) and serves on threads of its own.
-  // UNAVAILABLE if the address cannot be bound, INVALID_ARGUMENT if it is malformed.
-  static absl::StatusOr<std::unique_ptr<HttpServer>> Start(const std::string& listen_address,
-                                                           HttpParts parts, HttpLimits limits);
+  // Binds `listen_address` (HOST:PORT, port 0 picks one) and serves on threads of its own, over
+  // TLS with `tls` if given. UNAVAILABLE if the address cannot be bound, INVALID_ARGUMENT if it is
+  // malformed, FAILED_PRECONDITION if TLS is asked for and libmicrohttpd was built without it.
+  static absl::StatusOr<std::unique_ptr<HttpServer>> Start(
+      const std::string& listen_address, HttpParts parts, HttpLimits limits,
+      std::optional<HttpTlsMaterial> tls = std::nullopt);
   ~HttpServer();
   HttpServer(const HttpServer&) = delete;
   HttpServer& operator=(const HttpServer&) = delete;
 
   int port() const { return port_; }
+  bool tls() const { return tls_.has_value(); }
 
   // Lets the event streams write their jobs' last events (for up to a few seconds), answers the
   // requests still waiting with 503, stops listening and joins the threads. Idempotent.
@@ -85,6 +93,8 @@ class HttpServer {
 
   const HttpParts parts_;
   const HttpLimits limits_;
+  // Kept for the daemon's lifetime: libmicrohttpd is handed pointers to the PEM text.
+  std::optional<HttpTlsMaterial> tls_;
   Suspensions suspensions_;
   EventStreams streams_;
   PendingExchanges pending_;

@@ -16,7 +16,7 @@ from child_processes import die_with_parent
 
 
 class Browser:
-    def __init__(self, chromium="chromium", width=1280, height=1500, timeout=60):
+    def __init__(self, chromium="chromium", width=1280, height=1500, timeout=60, extra_args=()):
         if shutil.which(chromium) is None:
             raise RuntimeError(f"{chromium} is not installed (deploy/install-deps.sh installs it)")
         self.profile = tempfile.mkdtemp(prefix="ispq-chromium-")
@@ -35,7 +35,7 @@ class Browser:
             [chromium, "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
              "--remote-debugging-pipe", f"--user-data-dir={self.profile}", "--no-first-run",
              "--no-default-browser-check", "--disable-extensions", "--hide-scrollbars",
-             f"--window-size={width},{height}", "about:blank"],
+             f"--window-size={width},{height}", *extra_args, "about:blank"],
             stdout=self.log, stderr=self.log, close_fds=False, preexec_fn=pipes_as_fd_3_and_4)
         os.close(to_browser_read)
         os.close(from_browser_write)

@@ -52,6 +52,29 @@ std::vector<BadValue> BadValues() {
        [](ServerConfig& c) { c.job_store_timeout = absl::Milliseconds(99); }},
       {"--max_connection_age_seconds",
        [](ServerConfig& c) { c.max_connection_age = -absl::Seconds(1); }},
+      {"--http_tls_key",
+       [](ServerConfig& c) {
+         c.http_listen_address = "127.0.0.1:0";
+         c.http_tls_cert = "http.crt";
+       }},
+      {"--http_tls_cert",
+       [](ServerConfig& c) {
+         c.http_listen_address = "127.0.0.1:0";
+         c.http_tls_key = "http.key";
+       }},
+      {"--http_listen",  // an HTTP certificate for no HTTP side is a mistake worth naming
+       [](ServerConfig& c) {
+         c.http_tls_cert = "http.crt";
+         c.http_tls_key = "http.key";
+       }},
+      {"--http_listen", [](ServerConfig& c) { c.http_plaintext = true; }},
+      {"--http_plaintext",
+       [](ServerConfig& c) {
+         c.http_listen_address = "127.0.0.1:0";
+         c.http_tls_cert = "http.crt";
+         c.http_tls_key = "http.key";
+         c.http_plaintext = true;
+       }},
   };
 }
 
@@ -108,6 +131,41 @@ TEST(ServerConfigTest, TlsAndMutualTlsWithTheirFilesAreAccepted) {
   EXPECT_TRUE(ValidateServerConfig(config).ok());
   config.tls.client_ca = "ca.crt";
   EXPECT_TRUE(ValidateServerConfig(config).ok());
+}
+
+// The HTTP side is HTTPS with gRPC's certificate unless it has its own or is told to be plaintext;
+// gRPC's client CA never carries over (the HTTP side asks for no client certificate).
+TEST(ServerConfigTest, TheHttpSideUsesGrpcsCertificateByDefault) {
+  ServerConfig config;
+  config.tls = {.cert = "grpc.crt", .key = "grpc.key", .client_ca = "ca.crt"};
+  EXPECT_FALSE(HttpTlsFiles(config).enabled()) << "no HTTP side, no HTTP certificate";
+  config.http_listen_address = "[::]:8443";
+  ASSERT_TRUE(ValidateServerConfig(config).ok());
+  TlsFiles files = HttpTlsFiles(config);
+  EXPECT_EQ(files.cert, "grpc.crt");
+  EXPECT_EQ(files.key, "grpc.key");
+  EXPECT_EQ(files.client_ca, "");
+
+  config.http_tls_cert = "http.crt";
+  config.http_tls_key = "http.key";
+  ASSERT_TRUE(ValidateServerConfig(config).ok());
+  files = HttpTlsFiles(config);
+  EXPECT_EQ(files.cert, "http.crt");
+  EXPECT_EQ(files.key, "http.key");
+
+  config.http_tls_cert.clear();
+  config.http_tls_key.clear();
+  config.http_plaintext = true;
+  ASSERT_TRUE(ValidateServerConfig(config).ok());
+  EXPECT_FALSE(HttpTlsFiles(config).enabled());
+
+  ServerConfig plaintext_grpc;
+  plaintext_grpc.http_listen_address = "127.0.0.1:8080";
+  EXPECT_FALSE(HttpTlsFiles(plaintext_grpc).enabled());
+  plaintext_grpc.http_tls_cert = "http.crt";
+  plaintext_grpc.http_tls_key = "http.key";
+  ASSERT_TRUE(ValidateServerConfig(plaintext_grpc).ok());
+  EXPECT_EQ(HttpTlsFiles(plaintext_grpc).cert, "http.crt") << "HTTPS without gRPC's TLS";
 }
 
 TEST(ServerConfigTest, EitherPostgresUriSchemeIsAJobStore) {

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 // The PostgreSQL job store as several replicas see it: two stores on one real database stand for
 // two replicas. Claims, lease expiry, cross-replica watching, request ids and cancellation.
+#include <fstream>
 #include <iostream>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
@@ -264,6 +266,54 @@ TEST_F(PostgresJobClaimsTest, CancellingAQueuedJobOnAnotherReplicaEndsIt) {
   EXPECT_EQ(mirror->state(), v1::CANCELLED);
   EXPECT_EQ(a->Find("doomed", absl::Now())->state(), v1::CANCELLED);
   EXPECT_FALSE(a->ClaimNext().has_value());
+}
+
+// The query of KEDA's postgresql trigger in deploy/kubernetes/components/keda/scaled-object.yaml
+// (the line `query: "..."`), read from the source tree.
+std::string KedaQueueQuery() {
+  std::ifstream file(ISPQ_KEDA_SCALED_OBJECT);
+  const std::string text((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string key = "query: \"";
+  const size_t start = text.find(key);
+  if (start == std::string::npos) return "no query in " ISPQ_KEDA_SCALED_OBJECT;
+  const size_t end = text.find('"', start + key.size());
+  return text.substr(start + key.size(), end - start - key.size());
+}
+
+// KEDA scales the replicas on that query: on a real database with jobs in every state, it counts
+// exactly the queued jobs any replica may claim, as QueuedCount (ispq_queue_length) does. Not a
+// running job, one whose lease expired (claimable, but running), an ended one, nor the queued job
+// of a Quantize call (it runs on the replica that took the call, whatever the replica count).
+TEST_F(PostgresJobClaimsTest, KedasQueryCountsExactlyTheQueuedJobs) {
+  const std::string query = KedaQueueQuery();
+  ASSERT_EQ(query.rfind("SELECT count(*) FROM ispq_jobs", 0), 0u) << query;
+  std::unique_ptr<PostgresJobStore> a = Replica("a");
+  auto count = [&]() -> std::string {
+    absl::StatusOr<std::string> rows = postgres_->Sql(query, Database());
+    return rows.ok() ? std::string(absl::StripAsciiWhitespace(*rows)) : rows.status().ToString();
+  };
+  EXPECT_EQ(count(), "0");
+  for (const char* id : {"running", "expired", "ended", "queued1", "queued2"}) {
+    ASSERT_TRUE(a->Add(NewNotchJob(id), "", absl::Now()).ok()) << id;
+  }
+  ASSERT_TRUE(
+      a->Add(std::make_shared<Job>("call", NotchJobSpec(), /*bound_to_call=*/true, 0, absl::Now()),
+             "", absl::Now())
+          .ok());
+  EXPECT_EQ(count(), "5");
+  ASSERT_NE(ClaimAndRun(*a), nullptr);  // "running"
+  ASSERT_NE(ClaimAndRun(*a), nullptr);  // "expired", after its lease is made to expire below
+  ASSERT_TRUE(postgres_
+                  ->Sql("UPDATE ispq_jobs SET lease_expires = now() - interval '1 hour' WHERE "
+                        "id = 'expired'",
+                        Database())
+                  .ok());
+  std::shared_ptr<Job> ended = a->Find("ended", absl::Now());
+  ASSERT_NE(ended, nullptr);
+  a->Cancel(*ended, absl::Now());
+  ASSERT_EQ(Row("ended").substr(0, 1), std::to_string(static_cast<int>(v1::CANCELLED)));
+  EXPECT_EQ(count(), "2") << "queued1 and queued2";
+  EXPECT_EQ(count(), std::to_string(a->QueuedCount()));
 }
 
 TEST_F(PostgresJobClaimsTest, RefusesAUriThatIsNotPostgres) {
