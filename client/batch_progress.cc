@@ -45,6 +45,7 @@ void BatchProgress::Close() {
   if (!enabled_) return;
   absl::MutexLock lock(&mutex_);
   Erase();
+  std::fflush(out_);  // the summary may go to another stream
   running_.clear();
 }
 

@@ -1,6 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "client/batch_progress.h"
 
+#include <fcntl.h>
+#include <stdlib.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <string>
 #include <thread>
@@ -71,6 +75,98 @@ TEST_F(BatchProgressTest, WorkersReportingAtOnceAreCountedOnce) {
   }
   for (std::thread& worker : workers) worker.join();
   EXPECT_THAT(Written(), HasSubstr("[400/400 done, 40 failed, 0 running]\n"));
+}
+
+// The screen a terminal shows after the bytes written to it: what batch progress uses of it
+// (line feeds, carriage returns, cursor up, erase line) and printable text.
+class ScreenModel {
+ public:
+  void Feed(const std::string& bytes) {
+    for (size_t i = 0; i < bytes.size(); ++i) {
+      const char c = bytes[i];
+      if (c == '\033') {
+        const size_t end = bytes.find_first_of("AK", i);
+        ASSERT_NE(end, std::string::npos) << "an unknown escape sequence";
+        const std::string sequence = bytes.substr(i, end + 1 - i);
+        if (sequence == "\033[1A") {
+          ASSERT_GT(row_, 0) << "the cursor went above the first line";
+          --row_;
+        } else if (sequence == "\033[2K") {
+          Line().clear();
+        } else {
+          FAIL() << "unexpected escape sequence";
+        }
+        i = end;
+      } else if (c == '\r') {
+        column_ = 0;
+      } else if (c == '\n') {
+        ++row_;
+        column_ = 0;
+      } else {
+        std::string& line = Line();
+        if (line.size() < column_ + 1) line.resize(column_ + 1, ' ');
+        line[column_++] = c;
+      }
+    }
+  }
+  // The lines down to the cursor's (which is left out when empty).
+  std::vector<std::string> Lines() {
+    std::vector<std::string> shown(lines_.begin(), lines_.begin() + row_);
+    if (!Line().empty()) shown.push_back(Line());
+    return shown;
+  }
+
+ private:
+  std::string& Line() {
+    if (lines_.size() <= row_) lines_.resize(row_ + 1);
+    return lines_[row_];
+  }
+  std::vector<std::string> lines_;
+  size_t row_ = 0, column_ = 0;
+};
+
+// On a terminal: a live line per running job and the total under the permanent lines, redrawn in
+// place at each change, and nothing of them left once the batch closes.
+TEST(BatchProgressOnATerminalTest, LiveLinesAreRedrawnUnderThePermanentOnesAndClosedAway) {
+  const int master = posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) {
+    GTEST_SKIP() << "no pseudo-terminal available";
+  }
+  fcntl(master, F_SETFL, fcntl(master, F_GETFL) | O_NONBLOCK);
+  FILE* terminal = std::fopen(ptsname(master), "w");
+  ASSERT_NE(terminal, nullptr);
+  ScreenModel screen;
+  const auto shown = [&] {
+    std::string written;
+    char buffer[4096];
+    for (ssize_t n; (n = read(master, buffer, sizeof buffer)) > 0;) written.append(buffer, n);
+    screen.Feed(written);
+    return screen.Lines();
+  };
+  using Screen = std::vector<std::string>;
+  {
+    BatchProgress progress(terminal, 3, /*enabled=*/true);
+    progress.Update(0, "a L5", "jobs/1 GREEDY objective 12");
+    EXPECT_EQ(shown(),
+              (Screen{"  a L5: jobs/1 GREEDY objective 12", "[0/3 done, 0 failed, 1 running]"}));
+    progress.Notice(1, "b L5", "server unavailable; retrying");
+    EXPECT_EQ(shown(),
+              (Screen{"b L5: server unavailable; retrying", "  a L5: jobs/1 GREEDY objective 12",
+                      "  b L5: server unavailable; retrying", "[0/3 done, 0 failed, 2 running]"}));
+    progress.Finished(0, "a L5", true, "objective 10");
+    EXPECT_EQ(shown(),
+              (Screen{"b L5: server unavailable; retrying", "done   a L5: objective 10",
+                      "  b L5: server unavailable; retrying", "[1/3 done, 0 failed, 1 running]"}));
+    progress.Finished(1, "b L5", false, "arc 3: length -1");
+    EXPECT_EQ(shown(),
+              (Screen{"b L5: server unavailable; retrying", "done   a L5: objective 10",
+                      "FAILED b L5: arc 3: length -1", "[2/3 done, 1 failed, 0 running]"}));
+    progress.Close();
+    EXPECT_EQ(shown(), (Screen{"b L5: server unavailable; retrying", "done   a L5: objective 10",
+                               "FAILED b L5: arc 3: length -1"}));
+  }
+  std::fclose(terminal);
+  close(master);
 }
 
 }  // namespace
