@@ -27,18 +27,6 @@ bool JobEventPrinter::OnEvent(const v1::QuantizeEvent& event) {
 
 void JobEventPrinter::Finish() { progress_.Finish(); }
 
-absl::StatusOr<std::string> UploadIfLarge(client::QuantizerClient& client,
-                                          v1::QuantizeRequest& request, int64_t above_bytes,
-                                          bool progress) {
-  const int64_t bytes =
-      request.has_mesh() ? static_cast<int64_t>(request.mesh().ByteSizeLong()) : 0;
-  if (progress && bytes > above_bytes) {
-    std::fprintf(stderr, "uploading the mesh (%.1f MB) in chunks\n",
-                 static_cast<double>(bytes) / 1e6);
-  }
-  return client.UploadIfLarge(request, above_bytes);
-}
-
 int ReportError(const std::string& context, const absl::Status& error) {
   std::cerr << "ispq: " << context << ": " << error.message() << "\n";
   return ExitCodeFor(error);

@@ -34,11 +34,6 @@ class JobEventPrinter {
 // exit code: 0 for a valid result, 4 for an invalid one, the error's exit code otherwise.
 int ReportJobOutcome(const client::JobOutcome& outcome, const RemoteCommandOptions& options);
 
-// client.UploadIfLarge, saying on stderr (if `progress`) that a large mesh is being uploaded.
-absl::StatusOr<std::string> UploadIfLarge(client::QuantizerClient& client,
-                                          v1::QuantizeRequest& request, int64_t above_bytes,
-                                          bool progress);
-
 // Prints `error` as "ispq: <context>: <message>" and returns its exit code.
 int ReportError(const std::string& context, const absl::Status& error);
 
