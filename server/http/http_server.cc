@@ -19,7 +19,7 @@
 #include "absl/time/time.h"
 #include "server/http/event_stream_route.h"
 #include "server/http/job_routes.h"
-#include "server/http/mhd_request.h"
+#include "server/http/mhd_callbacks.h"
 #include "server/http/operator_routes.h"
 #include "server/http/web_routes.h"
 #include "spdlog/spdlog.h"
@@ -95,29 +95,6 @@ int BoundPort(int fd) {
     return ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
   }
   return ntohs(reinterpret_cast<const sockaddr_in*>(&address)->sin_port);
-}
-
-// libmicrohttpd's callbacks, on its event threads.
-MHD_Result OnRequest(void* dispatcher, MHD_Connection* connection, const char* url,
-                     const char* method, const char* /*version*/, const char* upload_data,
-                     size_t* upload_data_size, void** context) {
-  return static_cast<RequestDispatcher*>(dispatcher)
-      ->Handle(connection, url, method, upload_data, upload_data_size, context);
-}
-
-void OnCompleted(void* dispatcher, MHD_Connection* connection, void** context,
-                 MHD_RequestTerminationCode /*why*/) {
-  static_cast<RequestDispatcher*>(dispatcher)->Completed(connection, context);
-}
-
-void OnConnection(void* deadlines, MHD_Connection* connection, void** /*socket_context*/,
-                  MHD_ConnectionNotificationCode code) {
-  auto* const watched = static_cast<ConnectionDeadlines*>(deadlines);
-  if (code == MHD_CONNECTION_NOTIFY_STARTED) {
-    watched->Opened(connection, SocketOf(connection));
-  } else {
-    watched->Closed(connection);
-  }
 }
 
 // libmicrohttpd's messages (refused requests, closed connections) are routine under attack:
@@ -202,14 +179,14 @@ absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
     tls_options[0] = {MHD_OPTION_END, 0, nullptr};
   }
   daemon_ = MHD_start_daemon(
-      flags, 0, nullptr, nullptr, &OnRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET,
+      flags, 0, nullptr, nullptr, &OnMhdRequest, dispatcher_.get(), MHD_OPTION_LISTEN_SOCKET,
       listen_socket, MHD_OPTION_THREAD_POOL_SIZE, kEventThreads, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
       kConnectionMemoryBytes, MHD_OPTION_CONNECTION_LIMIT,
       static_cast<unsigned>(limits_.max_connections), MHD_OPTION_CONNECTION_TIMEOUT,
       static_cast<unsigned>(absl::ToInt64Seconds(limits_.idle_timeout)),
-      MHD_OPTION_NOTIFY_COMPLETED, &OnCompleted, dispatcher_.get(), MHD_OPTION_NOTIFY_CONNECTION,
-      &OnConnection, &deadlines_, MHD_OPTION_EXTERNAL_LOGGER, &OnLibraryMessage, nullptr,
-      MHD_OPTION_ARRAY, tls_options, MHD_OPTION_END);
+      MHD_OPTION_NOTIFY_COMPLETED, &OnMhdRequestCompleted, dispatcher_.get(),
+      MHD_OPTION_NOTIFY_CONNECTION, &OnMhdConnection, &deadlines_, MHD_OPTION_EXTERNAL_LOGGER,
+      &OnLibraryMessage, nullptr, MHD_OPTION_ARRAY, tls_options, MHD_OPTION_END);
   if (daemon_ == nullptr) {
     return absl::UnavailableError(tls_.has_value()
                                       ? "cannot start the HTTPS server (libmicrohttpd with TLS)"

@@ -29,7 +29,7 @@
 #include "server/http/connection_deadlines.h"
 #include "server/http/handler_pool.h"
 #include "server/http/http_refusals.h"
-#include "server/http/mhd_request.h"
+#include "server/http/mhd_callbacks.h"
 #include "server/http/origin_policy.h"
 #include "server/http/pending_exchanges.h"
 #include "server/http/suspensions.h"
@@ -43,29 +43,6 @@ using ::testing::HasSubstr;
 
 constexpr int64_t kMaxBody = 1000;
 constexpr char kSlowRouteMessage[] = "the slow route gave up";
-
-// libmicrohttpd's callbacks, as the server installs them (server/http/http_server.cc).
-MHD_Result OnRequest(void* dispatcher, MHD_Connection* connection, const char* url,
-                     const char* method, const char* /*version*/, const char* upload_data,
-                     size_t* upload_data_size, void** context) {
-  return static_cast<RequestDispatcher*>(dispatcher)
-      ->Handle(connection, url, method, upload_data, upload_data_size, context);
-}
-
-void OnCompleted(void* dispatcher, MHD_Connection* connection, void** context,
-                 MHD_RequestTerminationCode /*why*/) {
-  static_cast<RequestDispatcher*>(dispatcher)->Completed(connection, context);
-}
-
-void OnConnection(void* deadlines, MHD_Connection* connection, void** /*socket_context*/,
-                  MHD_ConnectionNotificationCode code) {
-  auto* const watched = static_cast<ConnectionDeadlines*>(deadlines);
-  if (code == MHD_CONNECTION_NOTIFY_STARTED) {
-    watched->Opened(connection, SocketOf(connection));
-  } else {
-    watched->Closed(connection);
-  }
-}
 
 HttpResponse Text(std::string body) {
   HttpResponse response;
@@ -103,11 +80,11 @@ class RequestDispatcherTest : public ::testing::Test {
     address.sin_family = AF_INET;
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
     daemon_ = MHD_start_daemon(
-        MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME, 0, nullptr, nullptr, &OnRequest,
-        dispatcher_.get(), MHD_OPTION_SOCK_ADDR, reinterpret_cast<sockaddr*>(&address),
-        MHD_OPTION_CONNECTION_MEMORY_LIMIT, size_t{64 << 10}, MHD_OPTION_NOTIFY_COMPLETED,
-        &OnCompleted, dispatcher_.get(), MHD_OPTION_NOTIFY_CONNECTION, &OnConnection, &deadlines_,
-        MHD_OPTION_END);
+        MHD_USE_EPOLL_INTERNAL_THREAD | MHD_ALLOW_SUSPEND_RESUME, 0, nullptr, nullptr,
+        &OnMhdRequest, dispatcher_.get(), MHD_OPTION_SOCK_ADDR,
+        reinterpret_cast<sockaddr*>(&address), MHD_OPTION_CONNECTION_MEMORY_LIMIT, size_t{64 << 10},
+        MHD_OPTION_NOTIFY_COMPLETED, &OnMhdRequestCompleted, dispatcher_.get(),
+        MHD_OPTION_NOTIFY_CONNECTION, &OnMhdConnection, &deadlines_, MHD_OPTION_END);
     ASSERT_NE(daemon_, nullptr);
     port_ = MHD_get_daemon_info(daemon_, MHD_DAEMON_INFO_BIND_PORT)->port;
     ASSERT_GT(port_, 0);
