@@ -27,7 +27,13 @@ constexpr int kPatches = v1::TMesh::kPatchesFieldNumber;
 constexpr int kBlocks = v1::TMesh::kBlocksFieldNumber;
 constexpr int64_t kMaxElements = (int64_t{1} << 30) - 1;  // proto/ispq/v1/tmesh.proto
 
-bool IsElementField(int field) { return field >= kNodes && field <= kBlocks; }
+// An entry of an element list. A field with one of their numbers but another wire type is an
+// unknown field to protobuf's parser (and ignored), so it is to this decoder.
+bool IsElement(uint32_t tag) {
+  const int field = WireFormatLite::GetTagFieldNumber(tag);
+  return field >= kNodes && field <= kBlocks &&
+         WireFormatLite::GetTagWireType(tag) == WireFormatLite::WIRETYPE_LENGTH_DELIMITED;
+}
 
 absl::Status NotATMesh(const char* what) {
   return InvalidArgument("the bytes are not a binary T-mesh (ispq.v1.TMesh): ", what);
@@ -49,16 +55,13 @@ absl::StatusOr<Scan> ScanFields(google::protobuf::io::ZeroCopyInputStream& bytes
     CodedOutputStream header(&header_stream);  // flushed into the string when it goes
     int last_element_field = 0;
     while (const uint32_t tag = input.ReadTag()) {
-      const int field = WireFormatLite::GetTagFieldNumber(tag);
-      if (!IsElementField(field)) {
+      if (!IsElement(tag)) {
         if (!WireFormatLite::SkipField(&input, tag, &header)) {
           return NotATMesh("a field is cut off");
         }
         continue;
       }
-      if (WireFormatLite::GetTagWireType(tag) != WireFormatLite::WIRETYPE_LENGTH_DELIMITED) {
-        return NotATMesh("an element list's entry is not a message");
-      }
+      const int field = WireFormatLite::GetTagFieldNumber(tag);
       uint32_t length = 0;
       if (!input.ReadVarint32(&length) || !input.Skip(static_cast<int>(length))) {
         return NotATMesh("an element is cut off");
@@ -97,11 +100,11 @@ absl::Status HandOverElements(google::protobuf::io::ZeroCopyInputStream& bytes,
   v1::Patch patch;
   v1::Block block;
   while (const uint32_t tag = input.ReadTag()) {
-    const int field = WireFormatLite::GetTagFieldNumber(tag);
-    if (!IsElementField(field)) {
+    if (!IsElement(tag)) {
       if (!WireFormatLite::SkipField(&input, tag)) return NotATMesh("a field is cut off");
       continue;
     }
+    const int field = WireFormatLite::GetTagFieldNumber(tag);
     uint32_t length = 0;
     if (!input.ReadVarint32(&length)) return NotATMesh("an element is cut off");
     const auto parsed = [&](google::protobuf::MessageLite& message) {

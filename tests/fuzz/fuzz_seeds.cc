@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// Writes the seed corpus of quantize_request_fuzzer: one binary ispq.v1.QuantizeRequest per
+// Writes the seed corpora: for quantize_request_fuzzer one binary ispq.v1.QuantizeRequest per
 // real T-mesh of at most kMaxArcsToQuantize arcs and scaling (levels 0, 50 and 100, a factor
-// and a target hex count), into the directory given as the only argument.
+// and a target hex count), into the first directory given; for tmesh_wire_fuzzer every real
+// T-mesh as a binary ispq.v1.TMesh, into the second.
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -11,13 +12,15 @@
 #include "tests/support/test_data.h"
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: ispq_fuzz_seeds DIR\n";
+  if (argc != 3) {
+    std::cerr << "usage: ispq_fuzz_seeds REQUEST_DIR TMESH_DIR\n";
     return 2;
   }
-  int written = 0;
+  int written = 0, meshes = 0;
   for (const std::string& file : ispq::testing::RealTMeshFiles()) {
     const ispq::v1::TMesh mesh = ispq::testing::LoadProtoOrDie(file);
+    std::ofstream(std::string(argv[2]) + "/tmesh-" + std::to_string(meshes++), std::ios::binary)
+        << mesh.SerializeAsString();
     if (mesh.arcs_size() > ispq::fuzz::kMaxArcsToQuantize) continue;
     for (int variant = 0; variant < 5; ++variant) {
       ispq::v1::QuantizeRequest request;
@@ -31,6 +34,6 @@ int main(int argc, char** argv) {
       out << request.SerializeAsString();
     }
   }
-  std::cout << written << " seeds\n";
+  std::cout << written << " request seeds, " << meshes << " T-mesh seeds\n";
   return written > 0 ? 0 : 1;
 }

@@ -17,9 +17,10 @@ cmake --preset fuzz >/dev/null
 cmake --build --preset fuzz -j 2
 
 out=build/fuzz
-mkdir -p "$out/corpus/tmesh_json" "$out/corpus/quantize_request" "$out/findings" "$out/seeds"
+mkdir -p "$out/corpus/tmesh_json" "$out/corpus/quantize_request" "$out/corpus/tmesh_wire" \
+  "$out/findings" "$out/seeds" "$out/seeds_binary"
 cp tests/data/tmesh/*/*.tmesh.json "$out/seeds/"
-"$out/tests/fuzz/ispq_fuzz_seeds" "$out/corpus/quantize_request" >/dev/null
+"$out/tests/fuzz/ispq_fuzz_seeds" "$out/corpus/quantize_request" "$out/seeds_binary" >/dev/null
 
 status=0
 run() {  # target corpus [seed dirs]
@@ -38,4 +39,5 @@ run() {  # target corpus [seed dirs]
 }
 run tmesh_json_fuzzer "$out/corpus/tmesh_json" "$out/seeds"
 run quantize_request_fuzzer "$out/corpus/quantize_request"
+run tmesh_wire_fuzzer "$out/corpus/tmesh_wire" "$out/seeds_binary"
 exit $status
