@@ -113,6 +113,23 @@ TEST(TMeshFromWireTest, InterleavedElementListsDecodeAsTheMessage) {
   ExpectSameMesh(*whole, *streamed);
 }
 
+// Protobuf's parser takes a field with an element list's number but another wire type for an
+// unknown field and ignores it: so does this decoder.
+TEST(TMeshFromWireTest, AnElementFieldOfAnotherWireTypeIsIgnoredAsTheParserDoes) {
+  const v1::TMesh proto =
+      testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
+  // Field 8 (arcs) as a varint of value 5: tag (8 << 3) | 0.
+  const Bytes bytes{.bytes = proto.SerializeAsString() + std::string("\x40\x05", 2)};
+  v1::TMesh parsed;
+  ASSERT_TRUE(parsed.ParseFromString(bytes.bytes));
+  EXPECT_EQ(parsed.arcs_size(), proto.arcs_size());
+  const absl::StatusOr<TMesh> streamed = TMeshFromWire(bytes.reader());
+  ASSERT_TRUE(streamed.ok()) << streamed.status();
+  const absl::StatusOr<TMesh> whole = TMeshFromProto(parsed);
+  ASSERT_TRUE(whole.ok());
+  ExpectSameMesh(*whole, *streamed);
+}
+
 TEST(TMeshFromWireTest, BytesThatAreNoTMeshAreRefusedSayingSo) {
   const v1::TMesh proto =
       testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
