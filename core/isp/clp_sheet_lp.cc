@@ -51,10 +51,7 @@ class ClpSheetLp final : public SheetLp {
     // answer. A warm pump solve takes a handful of pivots, and that refactorization was a fifth
     // of its CPU time (on a 10k-arc mesh 15% less CPU with it, q identical on the shared set).
     if (options.keep_factorization) model_.setSpecialOptions(model_.specialOptions() | 2048);
-    // The factorization now lives across thousands of solves of a few pivots each, so its updates
-    // pile up: refactorize after 100 pivots at most (CLP's default grows with the rows). On the
-    // 100k-arc mesh at level 5, 122 -> 90 s CPU (50 and 100 alike), the same objective.
-    model_.setFactorizationFrequency(std::min(model_.factorizationFrequency(), 100));
+    model_.setFactorizationFrequency(options.factorization_frequency);
     const std::vector<double> lower(num_columns, 0.0), upper(num_columns, COIN_DBL_MAX),
         objective(num_columns, 0.0);
     const std::vector<CoinBigIndex> starts(num_columns + 1, 0);
