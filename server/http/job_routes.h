@@ -3,7 +3,8 @@
 // (server/service/job_service.h), so that it has the gRPC method's semantics and errors:
 //
 //   POST /v1/jobs               SubmitJob: body an ispq.v1.QuantizeRequest in JSON (a mesh or a
-//                               stored_mesh, options, request_id); answer the Job
+//                               stored_mesh, options, request_id), or in binary protobuf
+//                               (Content-Type: application/x-protobuf); answer the Job
 //   GET  /v1/jobs/{id}          GetJob (?view=BASIC|FULL, default FULL)
 //   GET  /v1/jobs               ListJobs, newest first (?state=RUNNING&pageSize=N&pageToken=T
 //                               &view=BASIC|FULL, default BASIC); answer a ListJobsResponse
