@@ -56,8 +56,8 @@ absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& 
   return AccountRequest(std::move(bytes), limits.max_body_bytes, parts.memory);
 }
 
-void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& request,
-               const std::shared_ptr<Responder>& responder) {
+void SubmitJob(const HttpParts& parts, const HttpLimits& limits, GeometryCache* geometry,
+               HttpRequest& request, const std::shared_ptr<Responder>& responder) {
   absl::StatusOr<RawRequest> raw = BinaryRequest(request, parts, limits);
   if (!raw.ok()) {
     if (absl::IsInvalidArgument(raw.status())) parts.metrics.RecordRejectedInvalid();
@@ -70,8 +70,10 @@ void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& re
   submission.abandoned = [responder] { return responder->Answered(); };
   // On whichever thread decides; the answer is small (the new job, or the one a repeated
   // requestId names).
-  submission.answer = [&parts, responder](const JobSubmission::Outcome& job) {
+  submission.answer = [&parts, geometry, responder](const JobSubmission::Outcome& job) {
     if (!job.ok()) return responder->Answer(ErrorResponse(job.status()));
+    // The page that submits a job draws it next; a small job may have ended by then.
+    if (geometry != nullptr) geometry->Remember((*job)->name(), (*job)->mesh());
     responder->Answer(JsonResponse((*job)->ToProto(v1::FULL), parts.memory));
   };
   parts.service.Submit(std::move(submission));
@@ -135,7 +137,8 @@ Route JobRoute(const char* method, const char* pattern,
 
 }  // namespace
 
-void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits) {
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits,
+                  GeometryCache* geometry) {
   Route submit = JobRoute("POST", "/v1/jobs", nullptr, parts);
   submit.lane = Lane::kParse;
   submit.takes_body = true;
@@ -143,9 +146,9 @@ void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limi
   submit.timeout_message = absl::StrCat(
       "the request was not admitted within ", absl::FormatDuration(limits.answer_timeout),
       "; retry with the same requestId to learn what became of it");
-  submit.handle = [&parts, limits](HttpRequest& request,
-                                   const std::shared_ptr<Responder>& responder) {
-    SubmitJob(parts, limits, request, responder);
+  submit.handle = [&parts, limits, geometry](HttpRequest& request,
+                                             const std::shared_ptr<Responder>& responder) {
+    SubmitJob(parts, limits, geometry, request, responder);
   };
   router.Add(std::move(submit));
   router.Add(JobRoute("GET", "/v1/jobs", &ListJobs, parts));

@@ -20,13 +20,16 @@
 #ifndef ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 #define ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 
+#include "server/http/geometry_cache.h"
 #include "server/http/http_parts.h"
 #include "server/http/http_router.h"
 
 namespace ispq::server::http {
 
-// `parts` must outlive `router`.
-void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits);
+// `parts` (and `geometry`, if given) must outlive `router`. `geometry`: where a submitted job's
+// mesh is remembered for the web view (server/http/geometry_cache.h); null: nowhere.
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits,
+                  GeometryCache* geometry = nullptr);
 
 }  // namespace ispq::server::http
 
