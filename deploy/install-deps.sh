@@ -15,6 +15,7 @@ PACKAGES=(
   postgresql   # started by the tests of that store in a temporary directory
   yamllint     # checks the Kubernetes manifests (tests/deploy)
   libmicrohttpd-dev  # the HTTP side of ispq-server (server/http/)
+  libjs-three  # three.js r111, embedded into the web view's 3-D view at build time (server/http/web)
   chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
   python3-grpcio python3-protobuf python3-pip python3-setuptools  # the Python client (client/python)
 )

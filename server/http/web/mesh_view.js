@@ -1,0 +1,321 @@
+// SPDX-License-Identifier: Apache-2.0
+// The 3-D view of a job's T-mesh: its arcs as line segments (three.js r111 from Debian's
+// libjs-three, embedded in the server), coloured by the quantization as it streams in. The
+// geometry comes once from GET /v1/jobs/{id}/geometry (binary, server/http/mesh_geometry.h); the
+// position and colour buffers are built once, and a new q only rewrites the colour buffer, at
+// most once per animation frame, so that the page never waits on the view.
+//
+// Colour modes: the deviation q - s*l of each arc from its scaled target (diverging: blue where
+// the arc was rounded down, grey where it kept its target, red where it was rounded up), q itself
+// (a sequential scale), or what makes an arc critical (singular, feature, boundary). Arcs with
+// q = 0 (collapsed) are drawn in magenta in the first two modes, whatever their deviation.
+//
+// For tests and the curious, window.ispqView exposes the view's state: segments drawn, how many
+// times the colours were rewritten, the q last drawn and the colour of any arc.
+'use strict';
+
+const MeshView = (() => {
+  const MAGIC = 0x31475149;
+  const FLAG = { critical: 1, singular: 2, feature: 4, boundary: 8 };
+  const NO_Q = [0.62, 0.66, 0.72];      // before any quantization: the page's muted line colour
+  const ZERO = [0.85, 0.0, 0.85];       // q = 0: magenta, whatever the mode
+  const DOWN = [0.13, 0.40, 0.67];      // rounded down the most (#2166ac)
+  const KEPT = [0.72, 0.74, 0.78];      // on target
+  const UP = [0.70, 0.09, 0.17];        // rounded up the most (#b2182b)
+  const Q_LOW = [0.99, 0.85, 0.46];     // q = 1 (#fdd976)
+  const Q_HIGH = [0.10, 0.20, 0.55];    // the largest q
+  const REGULAR = [0.78, 0.80, 0.84];
+  const SINGULAR = [0.80, 0.10, 0.10];
+  const FEATURE = [0.90, 0.50, 0.0];
+  const BOUNDARY_CRITICAL = [0.12, 0.43, 0.92];
+
+  // The geometry response as typed arrays over its buffer (no copies).
+  function parseGeometry(buffer) {
+    const header = new Int32Array(buffer, 0, 8);
+    if (header[0] !== MAGIC) throw new Error('not a geometry response');
+    const nodes = header[1], sent = header[3];
+    let offset = 32;
+    const take = (Type, count) => {
+      const array = new Type(buffer, offset, count);
+      offset += count * Type.BYTES_PER_ELEMENT;
+      return array;
+    };
+    const geometry = { nodes, arcs: header[2], sent, stride: header[4], bundles: header[5] };
+    geometry.positions = take(Float32Array, 3 * nodes);
+    geometry.arcIds = take(Int32Array, sent);
+    geometry.ends = take(Int32Array, 2 * sent);
+    geometry.lengths = take(Float32Array, sent);
+    geometry.bundle = take(Int32Array, sent);
+    geometry.flags = take(Uint8Array, sent);
+    return geometry;
+  }
+
+  function mix(a, b, t) {
+    return [a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t, a[2] + (b[2] - a[2]) * t];
+  }
+
+  class View {
+    // `elements`: {container, mode, reset, legend, tooltip, caption}.
+    constructor(elements) {
+      this.el = elements;
+      this.mode = elements.mode.value;
+      this.geometry = null;
+      this.scaling = null;
+      this.q = null;           // the latest q received, per arc of the mesh
+      this.drawnQ = null;      // the q the colours show
+      this.final = false;
+      this.recolours = 0;
+      this.pending = false;
+      this.firstDrawMs = null;
+      this.range = 1;          // the deviation or q the scale ends at
+      elements.mode.addEventListener('change', () => { this.mode = elements.mode.value; this.schedule(); });
+      elements.reset.addEventListener('click', () => this.resetCamera());
+      this.publish();
+    }
+
+    // Drops the current mesh (another job is followed).
+    clear() {
+      if (this.renderer) {
+        this.controls.dispose();
+        this.renderer.dispose();
+        this.renderer.forceContextLoss();  // browsers keep only a few WebGL contexts
+        this.el.container.replaceChildren();
+      }
+      Object.assign(this, { geometry: null, q: null, drawnQ: null, final: false, recolours: 0,
+                            firstDrawMs: null, scaling: null, renderer: null, lines: null });
+      this.el.caption.textContent = '';
+      this.el.legend.replaceChildren();
+      this.publish();
+    }
+
+    // Builds the scene once from the geometry response.
+    show(buffer, startedAt) {
+      const g = parseGeometry(buffer);
+      this.geometry = g;
+      const positions = new Float32Array(6 * g.sent);
+      for (let i = 0; i < g.sent; i++) {
+        for (let end = 0; end < 2; end++) {
+          const node = g.ends[2 * i + end];
+          positions.set(g.positions.subarray(3 * node, 3 * node + 3), 6 * i + 3 * end);
+        }
+      }
+      this.colours = new Float32Array(6 * g.sent);
+      const buffers = new THREE.BufferGeometry();
+      buffers.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+      this.colourAttribute = new THREE.BufferAttribute(this.colours, 3);
+      this.colourAttribute.setUsage(THREE.DynamicDrawUsage);
+      buffers.setAttribute('color', this.colourAttribute);
+      buffers.computeBoundingSphere();
+      this.lines = new THREE.LineSegments(buffers, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors }));
+
+      const container = this.el.container;
+      const width = container.clientWidth || 760, height = container.clientHeight || 480;
+      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+      this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+      this.renderer.setSize(width, height);
+      this.renderer.setClearColor(0xffffff);
+      this.renderer.domElement.setAttribute('aria-label', '3-D view of the T-mesh');
+      container.replaceChildren(this.renderer.domElement);
+      this.scene = new THREE.Scene();
+      this.scene.add(this.lines);
+      const sphere = buffers.boundingSphere;
+      this.camera = new THREE.PerspectiveCamera(40, width / height, sphere.radius / 100, sphere.radius * 100);
+      this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
+      this.controls.enableKeys = false;  // its arrow keys would steal the page's
+      this.controls.addEventListener('change', () => this.render());
+      this.resetCamera();
+
+      this.raycaster = new THREE.Raycaster();
+      this.raycaster.params.Line.threshold = sphere.radius / 150;
+      // At most one raycast per frame: on a large mesh it visits every segment.
+      this.renderer.domElement.addEventListener('mousemove', (event) => {
+        const first = !this.hoverEvent;
+        this.hoverEvent = event;
+        if (first) requestAnimationFrame(() => { this.hover(this.hoverEvent); this.hoverEvent = null; });
+      });
+      this.renderer.domElement.addEventListener('mouseleave', () => { this.el.tooltip.hidden = true; });
+
+      this.el.caption.textContent = g.sent === g.arcs
+        ? g.arcs + ' arcs, ' + g.nodes + ' nodes'
+        : 'decimated: ' + g.sent + ' of ' + g.arcs + ' arcs shown (every critical arc, every ' +
+          g.stride + 'th other), ' + g.nodes + ' nodes';
+      this.recolour();
+      if (startedAt !== undefined) this.firstDrawMs = performance.now() - startedAt;
+      this.publish();
+    }
+
+    resetCamera() {
+      if (!this.camera) return;
+      const sphere = this.lines.geometry.boundingSphere;
+      const distance = sphere.radius / Math.sin((this.camera.fov / 2) * Math.PI / 180) * 1.05;
+      const direction = new THREE.Vector3(1, 0.8, 1.3).normalize();
+      this.camera.position.copy(sphere.center).addScaledVector(direction, distance);
+      this.controls.target.copy(sphere.center);
+      this.camera.lookAt(sphere.center);
+      this.controls.update();
+      this.render();
+    }
+
+    // The job's resolved scaling s (targets are s * l).
+    setScaling(scaling) {
+      if (Number.isFinite(scaling) && scaling > 0) { this.scaling = scaling; this.schedule(); }
+    }
+
+    // A quantization: an intermediate one, or the final result's (`final`).
+    setQ(q, final) {
+      if (!q || this.final) return;
+      this.q = q;
+      this.final = !!final;
+      this.schedule();
+    }
+
+    // Recolours at the next animation frame: a burst of intermediate quantizations costs one.
+    schedule() {
+      if (!this.geometry || this.pending) return;
+      this.pending = true;
+      requestAnimationFrame(() => { this.pending = false; this.recolour(); });
+    }
+
+    colourFor(i, q) {
+      const g = this.geometry, flags = g.flags[i];
+      if (this.mode === 'criticality') {
+        if (flags & FLAG.singular) return SINGULAR;
+        if (flags & FLAG.feature) return FEATURE;
+        if (flags & FLAG.critical) return BOUNDARY_CRITICAL;
+        return REGULAR;
+      }
+      if (q === undefined || q === null) return NO_Q;
+      if (q === 0) return ZERO;
+      if (this.mode === 'q') return mix(Q_LOW, Q_HIGH, Math.min(1, (q - 1) / Math.max(1, this.range - 1)));
+      const deviation = q - (this.scaling || 1) * g.lengths[i];
+      const t = Math.max(-1, Math.min(1, deviation / this.range));
+      return t < 0 ? mix(KEPT, DOWN, -t) : mix(KEPT, UP, t);
+    }
+
+    recolour() {
+      const g = this.geometry;
+      if (!g || !this.renderer) return;
+      const q = this.q;
+      // The scale's end: the largest |deviation| (at least 1/2) or the largest q.
+      this.range = this.mode === 'q' ? 1 : 0.5;
+      if (q) {
+        for (let i = 0; i < g.sent; i++) {
+          const value = q[g.arcIds[i]];
+          const extent = this.mode === 'q' ? value : Math.abs(value - (this.scaling || 1) * g.lengths[i]);
+          if (extent > this.range) this.range = extent;
+        }
+      }
+      for (let i = 0; i < g.sent; i++) {
+        const colour = this.colourFor(i, q ? q[g.arcIds[i]] : undefined);
+        this.colours.set(colour, 6 * i);
+        this.colours.set(colour, 6 * i + 3);
+      }
+      this.colourAttribute.needsUpdate = true;
+      this.drawnQ = q;
+      if (q) this.recolours++;
+      this.legend();
+      this.render();
+      this.publish();
+    }
+
+    render() {
+      if (this.renderer) this.renderer.render(this.scene, this.camera);
+    }
+
+    legend() {
+      const legend = this.el.legend;
+      const swatch = (colour, text) => {
+        const item = document.createElement('span');
+        const box = document.createElement('span');
+        box.className = 'swatch';
+        box.style.background = 'rgb(' + colour.map((c) => Math.round(c * 255)).join(',') + ')';
+        item.append(box, ' ' + text);
+        return item;
+      };
+      const items = [];
+      if (this.mode === 'criticality') {
+        items.push(swatch(SINGULAR, 'singular'), swatch(FEATURE, 'feature'),
+                   swatch(BOUNDARY_CRITICAL, 'other critical'), swatch(REGULAR, 'regular'));
+      } else if (!this.drawnQ) {
+        items.push(swatch(NO_Q, 'waiting for a quantization'));
+      } else if (this.mode === 'q') {
+        items.push(swatch(Q_LOW, 'q = 1'), swatch(mix(Q_LOW, Q_HIGH, 0.5), 'q = ' + Math.round((1 + this.range) / 2)),
+                   swatch(Q_HIGH, 'q = ' + this.range), swatch(ZERO, 'q = 0'));
+      } else {
+        const r = +this.range.toFixed(2);
+        items.push(swatch(DOWN, '−' + r + ' (rounded down)'), swatch(mix(KEPT, DOWN, 0.5), '−' + +(r / 2).toFixed(2)),
+                   swatch(KEPT, '0'), swatch(mix(KEPT, UP, 0.5), '+' + +(r / 2).toFixed(2)),
+                   swatch(UP, '+' + r + ' (rounded up)'), swatch(ZERO, 'q = 0'));
+      }
+      if (this.drawnQ) items.push(document.createTextNode(this.final ? ' · final q' : ' · intermediate q'));
+      legend.replaceChildren(...items);
+    }
+
+    hover(event) {
+      if (!this.geometry) return;
+      const rect = this.renderer.domElement.getBoundingClientRect();
+      const mouse = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1,
+                                      -((event.clientY - rect.top) / rect.height) * 2 + 1);
+      this.raycaster.setFromCamera(mouse, this.camera);
+      const hit = this.raycaster.intersectObject(this.lines)[0];
+      const tooltip = this.el.tooltip;
+      if (!hit) { tooltip.hidden = true; return; }
+      const i = Math.floor(hit.index / 2), g = this.geometry, arc = g.arcIds[i];
+      const target = (this.scaling || 1) * g.lengths[i];
+      const q = this.drawnQ ? this.drawnQ[arc] : undefined;
+      const kinds = ['critical', 'singular', 'feature', 'boundary'].filter((k) => g.flags[i] & FLAG[k]);
+      tooltip.textContent = 'arc ' + arc + ' · target ' + target.toFixed(3) +
+        ' · q ' + (q === undefined ? '—' : q) + ' · bundle ' + g.bundle[i] +
+        (kinds.length ? ' · ' + kinds.join(', ') : '');
+      tooltip.style.left = (event.clientX - rect.left + 12) + 'px';
+      tooltip.style.top = (event.clientY - rect.top + 12) + 'px';
+      tooltip.hidden = false;
+    }
+
+    // The segment of `arc` (an id of the mesh; the ids sent ascend), or -1 if it is not drawn.
+    indexOf(arc) {
+      const g = this.geometry;
+      if (!g) return -1;
+      let lo = 0, hi = g.sent - 1;
+      while (lo <= hi) {
+        const mid = (lo + hi) >> 1;
+        if (g.arcIds[mid] === arc) return mid;
+        if (g.arcIds[mid] < arc) lo = mid + 1; else hi = mid - 1;
+      }
+      return -1;
+    }
+
+    // The colour drawn for `arc`, or null if it is not drawn.
+    colourOf(arc) {
+      const i = this.indexOf(arc);
+      return i < 0 ? null : Array.from(this.colours.subarray(6 * i, 6 * i + 3));
+    }
+
+    // What the tests read (window.ispqView): a live view of this object's state.
+    publish() {
+      if (window.ispqView && window.ispqView.owner === this) return;
+      const view = this;
+      window.ispqView = {
+        owner: view,
+        get segments() { return view.lines ? view.lines.geometry.attributes.position.count / 2 : 0; },
+        get arcs() { return view.geometry ? view.geometry.arcs : 0; },
+        get stride() { return view.geometry ? view.geometry.stride : 0; },
+        get recolours() { return view.recolours; },
+        get final() { return view.final; },
+        get mode() { return view.mode; },
+        get scaling() { return view.scaling; },
+        get firstDrawMs() { return view.firstDrawMs; },
+        get q() { return view.drawnQ; },
+        get arcIds() { return view.geometry ? Array.from(view.geometry.arcIds) : []; },
+        colourOf: (arc) => view.colourOf(arc),
+        // The colour arc `arc` gets for a given q in the current mode and scale.
+        expectedColour: (arc, q) => {
+          const i = view.indexOf(arc);
+          return i < 0 ? null : Array.from(new Float32Array(view.colourFor(i, q)));
+        },
+      };
+    }
+  }
+
+  return { View, parseGeometry };
+})();
