@@ -1,0 +1,222 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The web view's 3-D view of the T-mesh in a real browser: headless Chromium (devtools_pipe.py)
+uploads a binary `.tmesh.pb` through the page's form, which draws the job's mesh as WebGL line
+segments from GET /v1/jobs/{id}/geometry, recolours it as intermediate quantizations stream over
+the job's event stream, and ends on the colours of the final q, checked against the result the API
+returns (the q itself, and what each colour means: red rounded up, blue rounded down, magenta
+collapsed). Also: the form's options reach the job (exact method, factor scaling, time limit), the
+view's controls are reached by Tab, and the page asks nothing of any host but the server.
+
+The mesh: the bundled femur shell (a real T-mesh of 296 arcs) in exact mode, whose solve streams
+four improving quantizations over about a second before its optimum, converted to binary protobuf
+with the schema compiled by protoc at test time. Artifacts: a screenshot (mesh_view.png) and the timings
+(mesh_view_timing.json) in the build's test-artifacts/."""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import ispq_http_server as ispq  # noqa: E402
+from devtools_pipe import Browser  # noqa: E402
+
+FEMUR = ("metamesh-guided-hexalab/2017_-_Explicit_Cylindrical_Maps_for_General_Tubular_Shapes_"
+         "femur_shell1.tmesh.json")
+LEVEL = 100
+PROTO_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "proto")
+
+VIEW = """JSON.stringify(window.ispqView ? {
+  segments: ispqView.segments, arcs: ispqView.arcs, recolours: ispqView.recolours,
+  final: ispqView.final, firstDrawMs: ispqView.firstDrawMs,
+  canvases: document.querySelectorAll('#mesh-view canvas').length,
+  status: document.getElementById('mesh-status').textContent,
+  error: document.getElementById('job-error').hidden ? '' : document.getElementById('job-error').textContent,
+  resultShown: !document.getElementById('result').hidden} : null)"""
+
+# Every drawn arc's colour against the colour its final q gives, in the page; the mismatches.
+COLOUR_CHECK = """(() => {
+  const v = window.ispqView, q = %s, bad = [];
+  for (const arc of v.arcIds) {
+    const drawn = v.colourOf(arc), expected = v.expectedColour(arc, q[arc]);
+    if (!drawn || drawn.some((c, i) => Math.abs(c - expected[i]) > 1e-6)) bad.push(arc);
+  }
+  return JSON.stringify({checked: v.arcIds.length, bad: bad.slice(0, 10), badCount: bad.length});
+})()"""
+
+
+def to_binary(mesh, path):
+    """The T-mesh in binary protobuf (.tmesh.pb), with the schema compiled by protoc."""
+    from google.protobuf import descriptor_pool, descriptor_pb2, json_format, message_factory
+    with tempfile.NamedTemporaryFile(suffix=".desc") as descriptor_file:
+        subprocess.run(["protoc", "-I", PROTO_DIR, "--include_imports",
+                        f"--descriptor_set_out={descriptor_file.name}", "ispq/v1/tmesh.proto"],
+                       check=True, timeout=60)
+        files = descriptor_pb2.FileDescriptorSet.FromString(descriptor_file.read())
+    pool = descriptor_pool.DescriptorPool()
+    for file in files.file:
+        pool.Add(file)
+    descriptor = pool.FindMessageTypeByName("ispq.v1.TMesh")
+    if hasattr(message_factory, "GetMessageClass"):
+        tmesh_class = message_factory.GetMessageClass(descriptor)
+    else:
+        tmesh_class = message_factory.MessageFactory(pool).GetPrototype(descriptor)
+    message = json_format.Parse(json.dumps(mesh), tmesh_class())
+    with open(path, "wb") as f:
+        f.write(message.SerializeToString())
+
+
+class MeshViewBrowserTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        os.makedirs(ispq.ARTIFACTS, exist_ok=True)
+        cls.notch = json.loads(ispq.bundled("hex-me/s07c_notch.tmesh.json"))
+        cls.mesh = json.loads(ispq.bundled(FEMUR))
+        cls.pb_path = os.path.join(ispq.ARTIFACTS, "femur_shell1.tmesh.pb")
+        to_binary(cls.mesh, cls.pb_path)
+
+    def open_page(self, server, browser):
+        browser.call("Network.enable", session=True)
+        browser.call("Page.navigate", {"url": f"http://127.0.0.1:{server.http_port}/"},
+                     session=True)
+        browser.wait_for("document.readyState === 'complete' && typeof MeshView !== 'undefined' && "
+                         "window.THREE !== undefined && THREE.REVISION === '111' && "
+                         "THREE.OrbitControls !== undefined")
+
+    def requested_urls(self, browser):
+        return [event["params"]["request"]["url"] for event in browser.events
+                if event.get("method") == "Network.requestWillBeSent"]
+
+    def test_a_binary_upload_is_drawn_recoloured_live_and_ends_on_the_final_q(self):
+        with ispq.Server("--workers=1") as server, Browser() as browser:
+            self.open_page(server, browser)
+            browser.set_file_input("#mesh-file", self.pb_path)
+            browser.evaluate(f"document.getElementById('level').value = '{LEVEL}';"
+                             "document.getElementById('method').value = 'exact';"
+                             "document.getElementById('time-limit').value = '60';"
+                             "document.getElementById('upload-form').requestSubmit()")
+
+            # Drawn, then recoloured while the job runs.
+            observed, deadline = [], time.monotonic() + ispq.SAFETY_NET
+            while time.monotonic() < deadline:
+                state = json.loads(browser.evaluate(VIEW) or "null")
+                if state:
+                    self.assertFalse(state["error"], state)
+                    self.assertNotIn("no 3-D view", state["status"], state)
+                    observed.append(state)
+                    if state["final"] and state["resultShown"]:
+                        break
+                time.sleep(0.03)
+            final_state = observed[-1]
+            self.assertTrue(final_state["final"], final_state)
+            self.assertEqual(final_state["canvases"], 1)
+            arcs = len(self.mesh["arcs"])
+            self.assertEqual(final_state["arcs"], arcs)
+            self.assertEqual(final_state["segments"], arcs, "every arc drawn (below the limit)")
+            live = sorted({s["recolours"] for s in observed if not s["final"] and s["recolours"]})
+            self.assertGreaterEqual(len(live), 3,
+                                    f"the view should recolour while the job runs: {live}")
+            self.assertGreater(final_state["recolours"], live[-1])
+            self.assertLessEqual(final_state["firstDrawMs"], 2000)
+
+            # The colours are those of the job's final q, as the API returns it.
+            job_name = json.loads(server.request("GET", "/v1/jobs")[2])["jobs"][0]["name"]
+            job = server.json("GET", f"/v1/{job_name}")
+            self.assertEqual(job["state"], "SUCCEEDED", job)
+            result = job["result"]
+            q = result["q"]
+            self.assertEqual(browser.evaluate("ispqView.q"), q)
+            check = json.loads(browser.evaluate(COLOUR_CHECK % json.dumps(q)))
+            self.assertEqual(check["checked"], arcs)
+            self.assertEqual(check["badCount"], 0, check)
+            # What the colours mean, checked here rather than by the page's own function.
+            scaling = float(result["scaling"])
+            colours = browser.evaluate("JSON.stringify(ispqView.arcIds.map(a => ispqView.colourOf(a)))")
+            kinds = {"up": 0, "down": 0, "zero": 0}
+            for arc, colour in enumerate(json.loads(colours)):
+                deviation = q[arc] - scaling * self.mesh["arcs"][arc]["length"]
+                if q[arc] == 0:
+                    self.assertEqual([round(c, 2) for c in colour], [0.85, 0.0, 0.85], arc)
+                    kinds["zero"] += 1
+                elif deviation > 0.05:
+                    self.assertGreater(colour[0], colour[2], f"arc {arc} rounded up: red")
+                    kinds["up"] += 1
+                elif deviation < -0.05:
+                    self.assertGreater(colour[2], colour[0], f"arc {arc} rounded down: blue")
+                    kinds["down"] += 1
+            # At level 100 most targets are below 1/2: arcs are rounded up or collapse.
+            self.assertGreater(kinds["up"], 0, kinds)
+            self.assertGreater(kinds["zero"], 0, kinds)
+
+            # The colour modes and the controls, by keyboard alone: Tab reaches both controls.
+            focused = []
+            browser.evaluate("document.activeElement && document.activeElement.blur()")
+            for _ in range(40):
+                for kind in ("keyDown", "keyUp"):
+                    browser.call("Input.dispatchKeyEvent", {"type": kind, "key": "Tab",
+                                 "code": "Tab", "windowsVirtualKeyCode": 9}, session=True)
+                focused.append(browser.evaluate("document.activeElement.id"))
+                if "reset-view" in focused and "colour-mode" in focused:
+                    break
+            self.assertIn("colour-mode", focused)
+            self.assertIn("reset-view", focused)
+            before = browser.evaluate("ispqView.recolours")
+            browser.evaluate("(() => { const s = document.getElementById('colour-mode');"
+                             " s.value = 'criticality'; s.dispatchEvent(new Event('change')); })()")
+            browser.wait_for(f"ispqView.recolours > {before} && ispqView.mode === 'criticality'")
+            browser.evaluate("(() => { const s = document.getElementById('colour-mode');"
+                             " s.value = 'deviation'; s.dispatchEvent(new Event('change')); })()")
+            browser.wait_for("ispqView.mode === 'deviation'")
+            browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")
+            time.sleep(0.3)
+            browser.screenshot(os.path.join(ispq.ARTIFACTS, "mesh_view.png"))
+
+            # Offline: nothing was asked of any host but the server.
+            origin = f"http://127.0.0.1:{server.http_port}/"
+            urls = self.requested_urls(browser)
+            self.assertTrue(any(u.endswith("/geometry") for u in urls), urls)
+            self.assertTrue(any(u.endswith("/vendor/three.min.js") for u in urls), urls)
+            elsewhere = [u for u in urls if not u.startswith((origin, "blob:", "data:"))]
+            self.assertEqual(elsewhere, [])
+
+        timing = {"arcs": arcs, "first_draw_ms": final_state["firstDrawMs"],
+                  "recolours_while_running": live, "recolours": final_state["recolours"]}
+        with open(os.path.join(ispq.ARTIFACTS, "mesh_view_timing.json"), "w") as f:
+            json.dump(timing, f, indent=2)
+        print(f"{arcs} arcs: first draw {final_state['firstDrawMs']:.0f} ms, "
+              f"{final_state['recolours']} recolours ({len(live)} while running)")
+
+    def test_the_forms_options_reach_the_job(self):
+        notch_path = os.path.join(ispq.ARTIFACTS, "notch.tmesh.json")
+        with open(notch_path, "w") as f:
+            json.dump(self.notch, f)
+        with ispq.Server("--workers=1") as server, Browser() as browser:
+            self.open_page(server, browser)
+            browser.set_file_input("#mesh-file", notch_path)
+            browser.evaluate("""(() => {
+              const kind = document.getElementById('scaling-kind');
+              kind.value = 'factor'; kind.dispatchEvent(new Event('change'));
+              document.getElementById('factor').value = '2.5';
+              document.getElementById('method').value = 'exact';
+              document.getElementById('time-limit').value = '7.5';
+              document.getElementById('upload-form').requestSubmit(); })()""")
+            name = browser.wait_for("(document.getElementById('form-message').textContent"
+                                    ".match(/Started (jobs\\/[^ ]+)/) || [])[1]")
+            job = server.wait_done(name)
+            self.assertEqual(job["options"]["method"], "METHOD_EXACT", job["options"])
+            self.assertEqual(job["options"]["scaling"], {"factor": 2.5})
+            self.assertEqual(job["options"]["timeLimit"], "7.500s")
+            self.assertEqual(job["state"], "SUCCEEDED", job)
+            browser.wait_for("window.ispqView && ispqView.final", timeout=60)
+            self.assertEqual(browser.evaluate("ispqView.segments"), len(self.notch["arcs"]))
+            # A bad choice is refused in the page, naming the field.
+            browser.evaluate("document.getElementById('factor').value = '0';"
+                             "document.getElementById('upload-form').requestSubmit()")
+            self.assertIn("scaling factor", browser.evaluate(
+                "document.getElementById('form-message').textContent"))
+
+
+if __name__ == "__main__":
+    unittest.main()
