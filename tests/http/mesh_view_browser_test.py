@@ -11,9 +11,9 @@ reached by Tab, and the page asks nothing of any host but the server.
 
 The mesh: the bundled femur shell (a real T-mesh of 296 arcs) in exact mode, whose solve streams
 four improving quantizations over about a second before its optimum, converted to binary protobuf
-with the schema compiled by protoc at test time. Artifacts: screenshots (mesh_view.png, mesh_view_100k.png)
-and the timings (mesh_view_timing.json, mesh_view_100k_timing.json) in the build's
-test-artifacts/."""
+with the schema compiled by protoc at test time. Artifacts: screenshots (mesh_view.png,
+mesh_view_100k.png) and the timings (mesh_view_timing.json, mesh_view_100k_timing.json) in the
+build's test-artifacts/."""
 import json
 import os
 import subprocess
@@ -39,7 +39,8 @@ VIEW = """JSON.stringify(window.ispqView ? {
   final: ispqView.final, firstDrawMs: ispqView.firstDrawMs,
   canvases: document.querySelectorAll('#mesh-view canvas').length,
   status: document.getElementById('mesh-status').textContent,
-  error: document.getElementById('job-error').hidden ? '' : document.getElementById('job-error').textContent,
+  error: document.getElementById('job-error').hidden ? ''
+         : document.getElementById('job-error').textContent,
   resultShown: !document.getElementById('result').hidden} : null)"""
 
 # Every drawn arc's colour against the colour its final q gives, in the page; the mismatches.
@@ -51,6 +52,11 @@ COLOUR_CHECK = """(() => {
   }
   return JSON.stringify({checked: v.arcIds.length, bad: bad.slice(0, 10), badCount: bad.length});
 })()"""
+
+
+def compact_json(value):
+    """`value` as JavaScript's JSON.stringify writes it."""
+    return json.dumps(value, separators=(",", ":"))
 
 
 def laid_out(mesh, copies, columns):
@@ -153,7 +159,8 @@ class MeshViewBrowserTest(unittest.TestCase):
             self.assertEqual(check["badCount"], 0, check)
             # What the colours mean, checked here rather than by the page's own function.
             scaling = float(result["scaling"])
-            colours = browser.evaluate("JSON.stringify(ispqView.arcIds.map(a => ispqView.colourOf(a)))")
+            colours = browser.evaluate(
+                "JSON.stringify(ispqView.arcIds.map(a => ispqView.colourOf(a)))")
             kinds = {"up": 0, "down": 0, "zero": 0}
             for arc, colour in enumerate(json.loads(colours)):
                 deviation = q[arc] - scaling * self.mesh["arcs"][arc]["length"]
@@ -170,6 +177,23 @@ class MeshViewBrowserTest(unittest.TestCase):
             self.assertGreater(kinds["up"], 0, kinds)
             self.assertGreater(kinds["zero"], 0, kinds)
 
+            # The time cursor replays an earlier quantization in the view and marks it on the
+            # chart; its end is the final q again.
+            snapshots = browser.evaluate("Number(document.getElementById('replay').max) + 1")
+            self.assertGreaterEqual(snapshots, 4, "each quantization received is kept")
+            browser.evaluate("(() => { const r = document.getElementById('replay');"
+                             " r.value = '0'; r.dispatchEvent(new Event('input')); })()")
+            browser.wait_for("ispqView.replaying && ispqView.q === ispqView.owner.replayQ && "
+                             "document.getElementById('curve').dataset.cursor !== ''")
+            first = browser.evaluate("ispqView.q")
+            self.assertNotEqual(first, q, "the first quantization is not the final one")
+            check = json.loads(browser.evaluate(COLOUR_CHECK % json.dumps(first)))
+            self.assertEqual(check["badCount"], 0, check)
+            browser.evaluate("(() => { const r = document.getElementById('replay');"
+                             " r.value = r.max; r.dispatchEvent(new Event('input')); })()")
+            browser.wait_for("!ispqView.replaying")
+            browser.wait_for(f"JSON.stringify(ispqView.q) === {json.dumps(compact_json(q))}")
+
             # The colour modes and the controls, by keyboard alone: Tab reaches both controls.
             focused = []
             browser.evaluate("document.activeElement && document.activeElement.blur()")
@@ -178,10 +202,11 @@ class MeshViewBrowserTest(unittest.TestCase):
                     browser.call("Input.dispatchKeyEvent", {"type": kind, "key": "Tab",
                                  "code": "Tab", "windowsVirtualKeyCode": 9}, session=True)
                 focused.append(browser.evaluate("document.activeElement.id"))
-                if "reset-view" in focused and "colour-mode" in focused:
+                if {"reset-view", "colour-mode", "replay"} <= set(focused):
                     break
             self.assertIn("colour-mode", focused)
             self.assertIn("reset-view", focused)
+            self.assertIn("replay", focused)
             before = browser.evaluate("ispqView.recolours")
             browser.evaluate("(() => { const s = document.getElementById('colour-mode');"
                              " s.value = 'criticality'; s.dispatchEvent(new Event('change')); })()")
@@ -239,8 +264,8 @@ class MeshViewBrowserTest(unittest.TestCase):
             job_name = json.loads(server.request("GET", "/v1/jobs")[2])["jobs"][0]["name"]
             q = server.json("GET", f"/v1/{job_name}")["result"]["q"]
             self.assertEqual(len(q), arcs)
-            compact = json.dumps(q, separators=(",", ":"))
-            self.assertTrue(browser.evaluate(f"JSON.stringify(ispqView.q) === {json.dumps(compact)}"))
+            self.assertTrue(browser.evaluate(
+                f"JSON.stringify(ispqView.q) === {json.dumps(compact_json(q))}"))
             check = json.loads(browser.evaluate(COLOUR_CHECK % json.dumps(q)))
             self.assertEqual((check["checked"], check["badCount"]), (arcs, 0), check)
             browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")

@@ -254,6 +254,10 @@ function follow(name) {
   if (source) source.close();
   selected = name;
   view.clear();
+  snapshots = [];
+  replayIndex = null;
+  cursorT = null;
+  updateReplay();
   loadGeometry(name);
   points = [];
   window.ispq.events = [];
@@ -298,7 +302,11 @@ function onEvent(event) {
     $('job-state').textContent = 'accepted (queue position ' + (event.accepted.queuePosition || 0) + ')';
     view.setScaling(Number(event.accepted.scaling));
   }
-  if (event.intermediate) view.setQ(event.intermediate.q, false);
+  if (event.intermediate) {
+    view.setQ(event.intermediate.q, false);
+    addSnapshot(Number(event.intermediate.progress && event.intermediate.progress.elapsedSeconds),
+                event.intermediate.q, false);
+  }
   const progress = event.progress || (event.intermediate && event.intermediate.progress);
   if (progress) showProgress(progress);
   if (event.result) showResult(event.result);
@@ -325,6 +333,10 @@ function showProgress(progress) {
 function showResult(result) {
   view.setScaling(Number(result.scaling));
   view.setQ(result.q, true);
+  if (result.q && result.q.length) {
+    const last = snapshots.length ? snapshots[snapshots.length - 1].t : 0;
+    addSnapshot(Math.max(last, Number((result.stats || {}).solveSeconds || 0)), result.q, true);
+  }
   $('job-state').textContent = result.termination === 'CONVERGED' ? 'succeeded' : 'ended: ' + result.termination;
   $('job-phase').textContent = 'done';
   $('job-objective').textContent = number(result.objective);
@@ -378,6 +390,7 @@ async function cancelJob() {
 function drawCurve() {
   const canvas = $('curve');
   canvas.dataset.points = String(points.length);
+  canvas.dataset.cursor = cursorT === null ? '' : String(cursorT);
   const g = canvas.getContext('2d');
   const W = canvas.width, H = canvas.height;
   const left = 70, right = 16, top = 14, bottom = 40;
@@ -425,12 +438,61 @@ function drawCurve() {
     g.fillStyle = p.separating ? '#1a7f37' : '#b35900';
     g.beginPath(); g.arc(x(p.t), y(p.objective), 3, 0, 2 * Math.PI); g.fill();
   }
+  // The time cursor: the quantization the 3-D view replays.
+  if (cursorT !== null) {
+    g.strokeStyle = '#c62828';
+    g.lineWidth = 1.5;
+    g.setLineDash([5, 4]);
+    const cx = x(Math.min(cursorT, tMax));
+    g.beginPath(); g.moveTo(cx, top); g.lineTo(cx, H - bottom); g.stroke();
+    g.setLineDash([]);
+  }
+}
+
+// ---- Replaying earlier quantizations ----------------------------------------------------------
+
+// Every quantization received for the followed job ({t, q, final}), for the time cursor. At most
+// REPLAY_MAX_VALUES arc values are kept: beyond, the oldest but the first are dropped.
+const REPLAY_MAX_VALUES = 8e6;
+let snapshots = [];
+let replayIndex = null;  // the snapshot replayed, or null: the latest (live)
+let cursorT = null;
+
+function addSnapshot(t, q, final) {
+  snapshots.push({ t: Number.isFinite(t) ? t : 0, q, final });
+  while (snapshots.length > 2 && snapshots.length * q.length > REPLAY_MAX_VALUES) {
+    snapshots.splice(1, 1);
+    if (replayIndex !== null) replayIndex = Math.max(0, replayIndex - 1);
+  }
+  updateReplay();
+}
+
+function updateReplay() {
+  const slider = $('replay');
+  slider.max = String(Math.max(0, snapshots.length - 1));
+  slider.disabled = snapshots.length < 2;
+  slider.value = String(replayIndex === null ? snapshots.length - 1 : replayIndex);
+  const live = replayIndex === null;
+  const shown = live ? snapshots[snapshots.length - 1] : snapshots[replayIndex];
+  $('replay-label').textContent = !shown ? 'none yet'
+    : (live ? 'latest' : 'replaying') + ' (' + (Number(slider.value) + 1) + ' of ' + snapshots.length +
+      ', at ' + number(shown.t, 3) + ' s' + (shown.final ? ', final' : '') + ')';
+  view.replay(live ? null : shown.q);
+  cursorT = live ? null : shown.t;
+  drawCurve();
+}
+
+function onReplay() {
+  const index = Number($('replay').value);
+  replayIndex = index >= snapshots.length - 1 ? null : index;
+  updateReplay();
 }
 
 // ---- Start ------------------------------------------------------------------------------------
 
 $('upload-form').addEventListener('submit', submitJob);
 $('scaling-kind').addEventListener('change', showScalingInput);
+$('replay').addEventListener('input', onReplay);
 showScalingInput();
 $('cancel-job').addEventListener('click', cancelJob);
 $('token').value = sessionStorage.getItem('ispq-token') || '';

@@ -62,6 +62,7 @@ const MeshView = (() => {
       this.geometry = null;
       this.scaling = null;
       this.q = null;           // the latest q received, per arc of the mesh
+      this.replayQ = null;     // an earlier q shown instead (the time cursor), or null
       this.drawnQ = null;      // the q the colours show
       this.final = false;
       this.recolours = 0;
@@ -70,26 +71,70 @@ const MeshView = (() => {
       this.range = 1;          // the deviation or q the scale ends at
       elements.mode.addEventListener('change', () => { this.mode = elements.mode.value; this.schedule(); });
       elements.reset.addEventListener('click', () => this.resetCamera());
+      this.setUp();
       this.publish();
+    }
+
+    // The renderer, scene, camera and controls, made once when the page loads and kept for every
+    // job: creating a WebGL context and compiling its shaders takes a moment (long, in software),
+    // which must not fall on the first seconds of a job, and browsers keep only a few contexts.
+    setUp() {
+      if (this.renderer || this.unavailable) return;
+      try {
+        this.renderer = new THREE.WebGLRenderer({ antialias: true });
+      } catch (error) {
+        this.unavailable = 'WebGL is not available in this browser';
+        return;
+      }
+      this.renderer.setPixelRatio(window.devicePixelRatio || 1);
+      this.renderer.setClearColor(0xffffff);
+      this.renderer.domElement.setAttribute('aria-label', '3-D view of the T-mesh');
+      this.el.container.replaceChildren(this.renderer.domElement);
+      this.scene = new THREE.Scene();
+      this.material = new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors });
+      this.camera = new THREE.PerspectiveCamera(40, 760 / 480, 0.01, 100);
+      this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
+      this.controls.enableKeys = false;  // its arrow keys would steal the page's
+      this.controls.addEventListener('change', () => this.render());
+      this.raycaster = new THREE.Raycaster();
+      // At most one raycast per frame: on a large mesh it visits every segment.
+      this.renderer.domElement.addEventListener('mousemove', (event) => {
+        const first = !this.hoverEvent;
+        this.hoverEvent = event;
+        if (first) requestAnimationFrame(() => { this.hover(this.hoverEvent); this.hoverEvent = null; });
+      });
+      this.renderer.domElement.addEventListener('mouseleave', () => { this.el.tooltip.hidden = true; });
+      // Compiles the line shader now, on one segment, rather than when the first job is drawn.
+      const warm = new THREE.BufferGeometry();
+      warm.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6), 3));
+      warm.setAttribute('color', new THREE.BufferAttribute(new Float32Array(6), 3));
+      const segment = new THREE.LineSegments(warm, this.material);
+      this.scene.add(segment);
+      this.renderer.setSize(1, 1);
+      this.renderer.render(this.scene, this.camera);
+      this.scene.remove(segment);
+      warm.dispose();
     }
 
     // Drops the current mesh (another job is followed).
     clear() {
-      if (this.renderer) {
-        this.controls.dispose();
-        this.renderer.dispose();
-        this.renderer.forceContextLoss();  // browsers keep only a few WebGL contexts
-        this.el.container.replaceChildren();
+      if (this.lines) {
+        this.scene.remove(this.lines);
+        this.lines.geometry.dispose();
       }
-      Object.assign(this, { geometry: null, q: null, drawnQ: null, final: false, recolours: 0,
-                            firstDrawMs: null, scaling: null, renderer: null, lines: null });
+      Object.assign(this, { geometry: null, q: null, replayQ: null, drawnQ: null, final: false,
+                            drawnFinal: false, recolours: 0, firstDrawMs: null, scaling: null,
+                            lines: null });
+      this.render();
       this.el.caption.textContent = '';
       this.el.legend.replaceChildren();
       this.publish();
     }
 
-    // Builds the scene once from the geometry response.
+    // Builds the segments once from the geometry response and draws them.
     show(buffer, startedAt) {
+      this.setUp();
+      if (this.unavailable) throw new Error(this.unavailable);
       const g = parseGeometry(buffer);
       this.geometry = g;
       const positions = new Float32Array(6 * g.sent);
@@ -106,34 +151,19 @@ const MeshView = (() => {
       this.colourAttribute.setUsage(THREE.DynamicDrawUsage);
       buffers.setAttribute('color', this.colourAttribute);
       buffers.computeBoundingSphere();
-      this.lines = new THREE.LineSegments(buffers, new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors }));
+      this.lines = new THREE.LineSegments(buffers, this.material);
+      this.scene.add(this.lines);
 
       const container = this.el.container;
       const width = container.clientWidth || 760, height = container.clientHeight || 480;
-      this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
-      this.renderer.setPixelRatio(window.devicePixelRatio || 1);
       this.renderer.setSize(width, height);
-      this.renderer.setClearColor(0xffffff);
-      this.renderer.domElement.setAttribute('aria-label', '3-D view of the T-mesh');
-      container.replaceChildren(this.renderer.domElement);
-      this.scene = new THREE.Scene();
-      this.scene.add(this.lines);
       const sphere = buffers.boundingSphere;
-      this.camera = new THREE.PerspectiveCamera(40, width / height, sphere.radius / 100, sphere.radius * 100);
-      this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
-      this.controls.enableKeys = false;  // its arrow keys would steal the page's
-      this.controls.addEventListener('change', () => this.render());
-      this.resetCamera();
-
-      this.raycaster = new THREE.Raycaster();
+      this.camera.aspect = width / height;
+      this.camera.near = sphere.radius / 100;
+      this.camera.far = sphere.radius * 100;
+      this.camera.updateProjectionMatrix();
       this.raycaster.params.Line.threshold = sphere.radius / 150;
-      // At most one raycast per frame: on a large mesh it visits every segment.
-      this.renderer.domElement.addEventListener('mousemove', (event) => {
-        const first = !this.hoverEvent;
-        this.hoverEvent = event;
-        if (first) requestAnimationFrame(() => { this.hover(this.hoverEvent); this.hoverEvent = null; });
-      });
-      this.renderer.domElement.addEventListener('mouseleave', () => { this.el.tooltip.hidden = true; });
+      this.resetCamera();
 
       this.el.caption.textContent = g.sent === g.arcs
         ? g.arcs + ' arcs, ' + g.nodes + ' nodes'
@@ -145,7 +175,7 @@ const MeshView = (() => {
     }
 
     resetCamera() {
-      if (!this.camera) return;
+      if (!this.lines) return;
       const sphere = this.lines.geometry.boundingSphere;
       const distance = sphere.radius / Math.sin((this.camera.fov / 2) * Math.PI / 180) * 1.05;
       const direction = new THREE.Vector3(1, 0.8, 1.3).normalize();
@@ -166,6 +196,13 @@ const MeshView = (() => {
       if (!q || this.final) return;
       this.q = q;
       this.final = !!final;
+      this.schedule();
+    }
+
+    // Shows an earlier quantization instead of the latest (null: the latest again).
+    replay(q) {
+      if (q === this.replayQ) return;
+      this.replayQ = q || null;
       this.schedule();
     }
 
@@ -195,7 +232,7 @@ const MeshView = (() => {
     recolour() {
       const g = this.geometry;
       if (!g || !this.renderer) return;
-      const q = this.q;
+      const q = this.replayQ || this.q;
       // The scale's end: the largest |deviation| (at least 1/2) or the largest q.
       this.range = this.mode === 'q' ? 1 : 0.5;
       if (q) {
@@ -212,6 +249,7 @@ const MeshView = (() => {
       }
       this.colourAttribute.needsUpdate = true;
       this.drawnQ = q;
+      this.drawnFinal = this.final && q === this.q && !this.replayQ;
       if (q) this.recolours++;
       this.legend();
       this.render();
@@ -247,7 +285,10 @@ const MeshView = (() => {
                    swatch(KEPT, '0'), swatch(mix(KEPT, UP, 0.5), '+' + +(r / 2).toFixed(2)),
                    swatch(UP, '+' + r + ' (rounded up)'), swatch(ZERO, 'q = 0'));
       }
-      if (this.drawnQ) items.push(document.createTextNode(this.final ? ' · final q' : ' · intermediate q'));
+      if (this.drawnQ) {
+        const which = this.replayQ ? 'an earlier q (time cursor)' : this.final ? 'final q' : 'intermediate q';
+        items.push(document.createTextNode(' · ' + which));
+      }
       legend.replaceChildren(...items);
     }
 
@@ -301,7 +342,8 @@ const MeshView = (() => {
         get arcs() { return view.geometry ? view.geometry.arcs : 0; },
         get stride() { return view.geometry ? view.geometry.stride : 0; },
         get recolours() { return view.recolours; },
-        get final() { return view.final; },
+        get final() { return !!view.drawnFinal; },  // the final q is what the colours show
+        get replaying() { return view.replayQ !== null; },
         get mode() { return view.mode; },
         get scaling() { return view.scaling; },
         get firstDrawMs() { return view.firstDrawMs; },
