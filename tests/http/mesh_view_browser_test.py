@@ -16,6 +16,7 @@ mesh_view_100k.png) and the timings (mesh_view_timing.json, mesh_view_100k_timin
 build's test-artifacts/."""
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -176,6 +177,21 @@ class MeshViewBrowserTest(unittest.TestCase):
             # At level 100 most targets are below 1/2: arcs are rounded up or collapse.
             self.assertGreater(kinds["up"], 0, kinds)
             self.assertGreater(kinds["zero"], 0, kinds)
+
+            # Hovering an arc names it with its target, q and bundle (the nearest arc under the
+            # pointer: which one is the raycast's choice, its numbers must be that arc's).
+            browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")
+            x, y = browser.evaluate("ispqView.screenPointOf(ispqView.arcIds[0])")
+            browser.call("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": x, "y": y},
+                         session=True)
+            tip = browser.wait_for("!document.getElementById('mesh-tooltip').hidden && "
+                                   "document.getElementById('mesh-tooltip').textContent")
+            match = re.match(r"arc (\d+) · target ([\d.]+) · q (\d+) · bundle (\d+)", tip)
+            self.assertIsNotNone(match, tip)
+            hovered = int(match.group(1))
+            self.assertEqual(int(match.group(3)), q[hovered], tip)
+            self.assertAlmostEqual(float(match.group(2)),
+                                   scaling * self.mesh["arcs"][hovered]["length"], places=3)
 
             # The time cursor replays an earlier quantization in the view and marks it on the
             # chart; its end is the final q again.

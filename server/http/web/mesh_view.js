@@ -350,6 +350,16 @@ const MeshView = (() => {
         get q() { return view.drawnQ; },
         get arcIds() { return view.geometry ? Array.from(view.geometry.arcIds) : []; },
         colourOf: (arc) => view.colourOf(arc),
+        // Where the middle of `arc` is drawn, in the page's client coordinates (to hover it).
+        screenPointOf: (arc) => {
+          const i = view.indexOf(arc);
+          if (i < 0) return null;
+          const p = view.lines.geometry.attributes.position.array;
+          const middle = new THREE.Vector3((p[6 * i] + p[6 * i + 3]) / 2, (p[6 * i + 1] + p[6 * i + 4]) / 2,
+                                           (p[6 * i + 2] + p[6 * i + 5]) / 2).project(view.camera);
+          const rect = view.renderer.domElement.getBoundingClientRect();
+          return [rect.left + (middle.x + 1) / 2 * rect.width, rect.top + (1 - middle.y) / 2 * rect.height];
+        },
         // The colour arc `arc` gets for a given q in the current mode and scale.
         expectedColour: (arc, q) => {
           const i = view.indexOf(arc);
