@@ -167,8 +167,8 @@ const MeshView = (() => {
 
       this.el.caption.textContent = g.sent === g.arcs
         ? g.arcs + ' arcs, ' + g.nodes + ' nodes'
-        : 'decimated: ' + g.sent + ' of ' + g.arcs + ' arcs shown (every critical arc, every ' +
-          g.stride + 'th other), ' + g.nodes + ' nodes';
+        : 'decimated: ' + g.sent + ' of ' + g.arcs + ' arcs shown (every critical arc and 1 in ' +
+          g.stride + ' of the others), ' + g.nodes + ' nodes';
       this.recolour();
       if (startedAt !== undefined) this.firstDrawMs = performance.now() - startedAt;
       this.publish();
