@@ -6,8 +6,10 @@ the job's event stream, and ends on the colours of the final q, checked against 
 returns (the q itself, and what each colour means: red rounded up, blue rounded down, magenta
 collapsed). The same for the issue's 100k-arc part (1333 copies of the bundled notch laid out in a
 grid, 22 MB of .tmesh.pb), which must be drawn within 2 s of asking for its geometry. Also: the
-form's options reach the job (exact method, factor scaling, time limit), the view's controls are
-reached by Tab, and the page asks nothing of any host but the server.
+form's options reach the job (exact method, factor scaling, time limit), the view's controls and
+canvas are reached by Tab and the canvas orbits by keyboard, hovering an arc names it with its
+numbers, the time cursor replays an earlier q, and the page asks nothing of any host but the
+server.
 
 The mesh: the bundled femur shell (a real T-mesh of 296 arcs) in exact mode, whose solve streams
 four improving quantizations over about a second before its optimum, converted to binary protobuf
@@ -210,19 +212,30 @@ class MeshViewBrowserTest(unittest.TestCase):
             browser.wait_for("!ispqView.replaying")
             browser.wait_for(f"JSON.stringify(ispqView.q) === {json.dumps(compact_json(q))}")
 
-            # The colour modes and the controls, by keyboard alone: Tab reaches both controls.
+            # Keyboard alone: Tab reaches the view's controls and the canvas, whose arrow keys
+            # orbit and whose 0 resets the view.
+            def press(key, code, virtual_key):
+                for kind in ("keyDown", "keyUp"):
+                    browser.call("Input.dispatchKeyEvent", {"type": kind, "key": key, "code": code,
+                                 "windowsVirtualKeyCode": virtual_key}, session=True)
+
+            controls = {"colour-mode", "reset-view", "replay", "mesh-canvas"}
             focused = []
             browser.evaluate("document.activeElement && document.activeElement.blur()")
             for _ in range(40):
-                for kind in ("keyDown", "keyUp"):
-                    browser.call("Input.dispatchKeyEvent", {"type": kind, "key": "Tab",
-                                 "code": "Tab", "windowsVirtualKeyCode": 9}, session=True)
+                press("Tab", "Tab", 9)
                 focused.append(browser.evaluate("document.activeElement.id"))
-                if {"reset-view", "colour-mode", "replay"} <= set(focused):
+                if focused[-1] == "mesh-canvas":
                     break
-            self.assertIn("colour-mode", focused)
-            self.assertIn("reset-view", focused)
-            self.assertIn("replay", focused)
+            self.assertLessEqual(controls, set(focused), focused)
+            framed = browser.evaluate("ispqView.camera")
+            press("ArrowLeft", "ArrowLeft", 37)
+            turned = browser.evaluate("ispqView.camera")
+            self.assertNotEqual(turned, framed, "the left arrow orbits")
+            self.assertEqual(browser.evaluate("document.activeElement.id"), "mesh-canvas")
+            press("0", "Digit0", 48)
+            self.assertEqual([round(c, 6) for c in browser.evaluate("ispqView.camera")],
+                             [round(c, 6) for c in framed], "0 resets the view")
             before = browser.evaluate("ispqView.recolours")
             browser.evaluate("(() => { const s = document.getElementById('colour-mode');"
                              " s.value = 'criticality'; s.dispatchEvent(new Event('change')); })()")

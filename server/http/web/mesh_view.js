@@ -88,7 +88,6 @@ const MeshView = (() => {
       }
       this.renderer.setPixelRatio(window.devicePixelRatio || 1);
       this.renderer.setClearColor(0xffffff);
-      this.renderer.domElement.setAttribute('aria-label', '3-D view of the T-mesh');
       this.el.container.replaceChildren(this.renderer.domElement);
       this.scene = new THREE.Scene();
       this.material = new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors });
@@ -104,6 +103,14 @@ const MeshView = (() => {
         if (first) requestAnimationFrame(() => { this.hover(this.hoverEvent); this.hoverEvent = null; });
       });
       this.renderer.domElement.addEventListener('mouseleave', () => { this.el.tooltip.hidden = true; });
+      // Keyboard orbit for who does not use a mouse: the canvas takes focus (Tab) and its keys.
+      const canvas = this.renderer.domElement;
+      canvas.id = 'mesh-canvas';
+      canvas.tabIndex = 0;
+      canvas.setAttribute('role', 'img');
+      canvas.setAttribute('aria-label', '3-D view of the T-mesh: arrow keys orbit, + and − zoom, ' +
+                                        '0 resets the view');
+      canvas.addEventListener('keydown', (event) => this.key(event));
       // Compiles the line shader now, on one segment, rather than when the first job is drawn.
       const warm = new THREE.BufferGeometry();
       warm.setAttribute('position', new THREE.BufferAttribute(new Float32Array(6), 3));
@@ -172,6 +179,34 @@ const MeshView = (() => {
       this.recolour();
       if (startedAt !== undefined) this.firstDrawMs = performance.now() - startedAt;
       this.publish();
+    }
+
+    // Arrow keys orbit by 10 degrees, + and - zoom, 0 or Home resets.
+    key(event) {
+      if (!this.lines) return;
+      const step = Math.PI / 18;
+      const offset = this.camera.position.clone().sub(this.controls.target);
+      const spherical = new THREE.Spherical().setFromVector3(offset);
+      const turns = { ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step] };
+      if (turns[event.key]) {
+        spherical.theta += turns[event.key][0];
+        spherical.phi = Math.min(Math.PI - 0.01, Math.max(0.01, spherical.phi + turns[event.key][1]));
+      } else if (event.key === '+' || event.key === '=') {
+        spherical.radius /= 1.2;
+      } else if (event.key === '-' || event.key === '_') {
+        spherical.radius *= 1.2;
+      } else if (event.key === '0' || event.key === 'Home') {
+        event.preventDefault();
+        this.resetCamera();
+        return;
+      } else {
+        return;  // Tab and the rest keep their meaning
+      }
+      event.preventDefault();
+      this.camera.position.copy(this.controls.target).add(new THREE.Vector3().setFromSpherical(spherical));
+      this.camera.lookAt(this.controls.target);
+      this.controls.update();
+      this.render();
     }
 
     resetCamera() {
@@ -347,6 +382,7 @@ const MeshView = (() => {
         get mode() { return view.mode; },
         get scaling() { return view.scaling; },
         get firstDrawMs() { return view.firstDrawMs; },
+        get camera() { return view.camera ? view.camera.position.toArray() : null; },
         get q() { return view.drawnQ; },
         get arcIds() { return view.geometry ? Array.from(view.geometry.arcIds) : []; },
         colourOf: (arc) => view.colourOf(arc),
