@@ -21,18 +21,19 @@
 #include "absl/synchronization/mutex.h"
 #include "core/tmesh.h"
 #include "server/admission/memory_admission.h"
+#include "server/http/mesh_geometry.h"
 
 namespace ispq::server::http {
 
 struct GeometryCacheOptions {
-  int capacity = 16;           // geometries kept
-  int max_arcs = 100000;       // above, the geometry is decimated (mesh_geometry.h)
-  int eager_max_arcs = 20000;  // a submitted mesh up to this size is drawn at once
+  int capacity = 16;                    // geometries kept
+  int max_arcs = kDefaultGeometryArcs;  // above, the geometry is decimated
+  int eager_max_arcs = 20000;           // a submitted mesh up to this size is drawn at once
 };
 
 class GeometryCache {
  public:
-  GeometryCache(MemoryAdmission& memory, GeometryCacheOptions options = {});
+  explicit GeometryCache(MemoryAdmission& memory, GeometryCacheOptions options = {});
 
   // A job just submitted, with its mesh (null if it has ended already).
   void Remember(const std::string& job, const std::shared_ptr<const TMesh>& mesh);
