@@ -108,11 +108,28 @@ class MeshViewBrowserTest(unittest.TestCase):
 
     def open_page(self, server, browser):
         browser.call("Network.enable", session=True)
+        browser.call("Log.enable", session=True)
         browser.call("Page.navigate", {"url": f"http://127.0.0.1:{server.http_port}/"},
                      session=True)
         browser.wait_for("document.readyState === 'complete' && typeof MeshView !== 'undefined' && "
                          "window.THREE !== undefined && THREE.REVISION === '111' && "
                          "THREE.OrbitControls !== undefined")
+
+    def page_errors(self, browser):
+        """Uncaught exceptions and error-level console or browser entries (CSP refusals among
+        them)."""
+        errors = []
+        for event in browser.events:
+            if event.get("method") == "Runtime.exceptionThrown":
+                errors.append(event["params"]["exceptionDetails"].get("text", ""))
+            elif event.get("method") == "Log.entryAdded" and \
+                    event["params"]["entry"]["level"] == "error":
+                entry = event["params"]["entry"]
+                errors.append(f"{entry.get('text', '')} {entry.get('url', '')}")
+            elif event.get("method") == "Runtime.consoleAPICalled" and \
+                    event["params"]["type"] == "error":
+                errors.append(str(event["params"]["args"]))
+        return errors
 
     def requested_urls(self, browser):
         return [event["params"]["request"]["url"] for event in browser.events
@@ -254,6 +271,7 @@ class MeshViewBrowserTest(unittest.TestCase):
             self.assertTrue(any(u.endswith("/vendor/three.min.js") for u in urls), urls)
             elsewhere = [u for u in urls if not u.startswith((origin, "blob:", "data:"))]
             self.assertEqual(elsewhere, [])
+            self.assertEqual(self.page_errors(browser), [])
 
         timing = {"arcs": arcs, "first_draw_ms": final_state["firstDrawMs"],
                   "recolours_while_running": live, "recolours": final_state["recolours"]}
