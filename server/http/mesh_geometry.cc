@@ -42,6 +42,16 @@ std::vector<ArcId> SentArcs(const TMesh& mesh, int max_arcs, int* stride) {
   return sent;
 }
 
+// The patches sent: all of them with all arcs, else the critical ones (boundary and feature
+// surfaces: the part's shape), which a decimated view still shows whole.
+std::vector<PatchId> SentPatches(const TMesh& mesh, bool decimated) {
+  std::vector<PatchId> sent;
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
+    if (!decimated || mesh.patch_critical(p)) sent.push_back(p);
+  }
+  return sent;
+}
+
 uint8_t FlagsOf(const TMesh& mesh, ArcId a) {
   return (mesh.arc_critical(a) ? kGeometryCritical : 0) |
          (mesh.arc_singular(a) != 0 ? kGeometrySingular : 0) |
@@ -69,16 +79,27 @@ std::string EncodeMeshGeometry(const TMesh& mesh, const NodePositions& positions
     bundle[i] = bundles.bundle_of(a);
     flags[i] = FlagsOf(mesh, a);
   }
+  // Each patch as the cycle of its nodes (the tail of each halfarc of halfpatch 2p).
+  const std::vector<PatchId> patches = SentPatches(mesh, stride > 1);
+  std::vector<int32_t> offsets = {0}, cycle_nodes;
+  std::vector<uint8_t> patch_flags((patches.size() + 3) / 4 * 4, 0);
+  for (size_t i = 0; i < patches.size(); ++i) {
+    for (HalfarcId h : mesh.patch_cycle(patches[i])) cycle_nodes.push_back(mesh.tail(h));
+    offsets.push_back(static_cast<int32_t>(cycle_nodes.size()));
+    patch_flags[i] = (mesh.patch_boundary(patches[i]) ? kGeometryBoundary : 0) |
+                     (mesh.patch_feature(patches[i]) ? kGeometryFeature : 0);
+  }
   const int32_t header[8] = {kGeometryMagic,
                              mesh.num_nodes(),
                              mesh.num_arcs(),
                              static_cast<int32_t>(m),
                              stride,
                              bundles.num_bundles(),
-                             0,
-                             0};
+                             static_cast<int32_t>(patches.size()),
+                             static_cast<int32_t>(cycle_nodes.size())};
   std::string out;
-  out.reserve(sizeof(header) + positions.size() * 12 + m * 20 + flags.size());
+  out.reserve(sizeof(header) + positions.size() * 12 + m * 20 + flags.size() + patches.size() * 9 +
+              cycle_nodes.size() * 4 + 8);
   Append(out, header, 8);
   for (const std::array<float, 3>& p : positions) Append(out, p.data(), 3);
   Append(out, sent.data(), m);
@@ -86,6 +107,10 @@ std::string EncodeMeshGeometry(const TMesh& mesh, const NodePositions& positions
   Append(out, length.data(), m);
   Append(out, bundle.data(), m);
   Append(out, flags.data(), flags.size());
+  Append(out, patches.data(), patches.size());
+  Append(out, offsets.data(), offsets.size());
+  Append(out, cycle_nodes.data(), cycle_nodes.size());
+  Append(out, patch_flags.data(), patch_flags.size());
   return out;
 }
 

@@ -244,7 +244,7 @@ class MeshViewBrowserTest(unittest.TestCase):
                 focused.append(browser.evaluate("document.activeElement.id"))
                 if focused[-1] == "mesh-canvas":
                     break
-            self.assertLessEqual(controls, set(focused), focused)
+            self.assertLessEqual(controls | {"show-faces"}, set(focused), focused)
             framed = browser.evaluate("ispqView.camera")
             press("ArrowLeft", "ArrowLeft", 37)
             turned = browser.evaluate("ispqView.camera")
@@ -260,6 +260,13 @@ class MeshViewBrowserTest(unittest.TestCase):
             browser.evaluate("(() => { const s = document.getElementById('colour-mode');"
                              " s.value = 'deviation'; s.dispatchEvent(new Event('change')); })()")
             browser.wait_for("ispqView.mode === 'deviation'")
+            # The patches as translucent faces: a fan of triangles per patch cycle.
+            self.assertEqual(browser.evaluate("ispqView.patches"), len(self.mesh["patches"]))
+            self.assertFalse(browser.evaluate("ispqView.facesShown"))
+            browser.evaluate("document.getElementById('show-faces').click()")
+            browser.wait_for("ispqView.facesShown")
+            self.assertEqual(browser.evaluate("ispqView.triangles"),
+                             sum(len(p["halfarcs"]) - 2 for p in self.mesh["patches"]))
             browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")
             time.sleep(0.3)
             browser.screenshot(os.path.join(ispq.ARTIFACTS, "mesh_view.png"))

@@ -224,7 +224,7 @@ let meshName = 'mesh';
 window.ispq = { events: [], latenciesMs: [] };
 
 const view = new MeshView.View({
-  container: $('mesh-view'), mode: $('colour-mode'), reset: $('reset-view'),
+  container: $('mesh-view'), mode: $('colour-mode'), reset: $('reset-view'), faces: $('show-faces'),
   legend: $('mesh-legend'), tooltip: $('mesh-tooltip'), caption: $('mesh-caption'),
 });
 

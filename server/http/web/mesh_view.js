@@ -8,7 +8,9 @@
 // Colour modes: the deviation q - s*l of each arc from its scaled target (diverging: blue where
 // the arc was rounded down, grey where it kept its target, red where it was rounded up), q itself
 // (a sequential scale), or what makes an arc critical (singular, feature, boundary). Arcs with
-// q = 0 (collapsed) are drawn in magenta in the first two modes, whatever their deviation.
+// q = 0 (collapsed) are drawn in magenta in the first two modes, whatever their deviation. The
+// patches can be shown as translucent faces (off by default: in software WebGL a large mesh's
+// faces cost more to draw than its lines).
 //
 // For tests and the curious, window.ispqView exposes the view's state: segments drawn, how many
 // times the colours were rewritten, the q last drawn and the colour of any arc.
@@ -25,6 +27,8 @@ const MeshView = (() => {
   const Q_LOW = [0.99, 0.85, 0.46];     // q = 1 (#fdd976)
   const Q_HIGH = [0.10, 0.20, 0.55];    // the largest q
   const REGULAR = [0.78, 0.80, 0.84];
+  const FACE_BOUNDARY = [0.45, 0.55, 0.70];  // translucent patches
+  const FACE_INNER = [0.70, 0.76, 0.85];
   const SINGULAR = [0.80, 0.10, 0.10];
   const FEATURE = [0.90, 0.50, 0.0];
   const BOUNDARY_CRITICAL = [0.12, 0.43, 0.92];
@@ -47,6 +51,12 @@ const MeshView = (() => {
     geometry.lengths = take(Float32Array, sent);
     geometry.bundle = take(Int32Array, sent);
     geometry.flags = take(Uint8Array, sent);
+    offset += (4 - sent % 4) % 4;
+    geometry.patches = header[6];
+    geometry.patchIds = take(Int32Array, header[6]);
+    geometry.patchOffsets = take(Int32Array, header[6] + 1);
+    geometry.cycleNodes = take(Int32Array, header[7]);
+    geometry.patchFlags = take(Uint8Array, header[6]);
     return geometry;
   }
 
@@ -55,7 +65,7 @@ const MeshView = (() => {
   }
 
   class View {
-    // `elements`: {container, mode, reset, legend, tooltip, caption}.
+    // `elements`: {container, mode, reset, faces, legend, tooltip, caption}.
     constructor(elements) {
       this.el = elements;
       this.mode = elements.mode.value;
@@ -71,6 +81,7 @@ const MeshView = (() => {
       this.range = 1;          // the deviation or q the scale ends at
       elements.mode.addEventListener('change', () => { this.mode = elements.mode.value; this.schedule(); });
       elements.reset.addEventListener('click', () => this.resetCamera());
+      elements.faces.addEventListener('change', () => this.showFaces(elements.faces.checked));
       this.setUp();
       this.publish();
     }
@@ -91,6 +102,9 @@ const MeshView = (() => {
       this.el.container.replaceChildren(this.renderer.domElement);
       this.scene = new THREE.Scene();
       this.material = new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors });
+      this.faceMaterial = new THREE.MeshBasicMaterial({
+        vertexColors: THREE.VertexColors, transparent: true, opacity: 0.18, side: THREE.DoubleSide,
+        depthWrite: false });
       this.camera = new THREE.PerspectiveCamera(40, 760 / 480, 0.01, 100);
       this.controls = new THREE.OrbitControls(this.camera, this.renderer.domElement);
       this.controls.enableKeys = false;  // its arrow keys would steal the page's
@@ -126,12 +140,13 @@ const MeshView = (() => {
     // Drops the current mesh (another job is followed).
     clear() {
       if (this.lines) {
-        this.scene.remove(this.lines);
+        this.scene.remove(this.lines, this.faces);
         this.lines.geometry.dispose();
+        this.faces.geometry.dispose();
       }
       Object.assign(this, { geometry: null, q: null, replayQ: null, drawnQ: null, final: false,
                             drawnFinal: false, recolours: 0, firstDrawMs: null, scaling: null,
-                            lines: null });
+                            lines: null, faces: null, triangles: 0 });
       this.render();
       this.el.caption.textContent = '';
       this.el.legend.replaceChildren();
@@ -160,6 +175,9 @@ const MeshView = (() => {
       buffers.computeBoundingSphere();
       this.lines = new THREE.LineSegments(buffers, this.material);
       this.scene.add(this.lines);
+      this.faces = this.patchFaces(g);
+      this.faces.visible = this.el.faces.checked;
+      this.scene.add(this.faces);
 
       const container = this.el.container;
       const width = container.clientWidth || 760, height = container.clientHeight || 480;
@@ -207,6 +225,36 @@ const MeshView = (() => {
       this.camera.lookAt(this.controls.target);
       this.controls.update();
       this.render();
+    }
+
+    // The patches as translucent faces (each cycle a fan of triangles around its first node):
+    // boundary patches a little darker, so that the part's shape shows through its inside.
+    patchFaces(g) {
+      let triangles = 0;
+      for (let i = 0; i < g.patches; i++) triangles += g.patchOffsets[i + 1] - g.patchOffsets[i] - 2;
+      const positions = new Float32Array(9 * Math.max(0, triangles));
+      const colours = new Float32Array(9 * Math.max(0, triangles));
+      let t = 0;
+      for (let i = 0; i < g.patches; i++) {
+        const first = g.patchOffsets[i], end = g.patchOffsets[i + 1];
+        const colour = g.patchFlags[i] & FLAG.boundary ? FACE_BOUNDARY : FACE_INNER;
+        for (let k = first + 1; k + 1 < end; k++) {
+          for (const [corner, node] of [[0, g.cycleNodes[first]], [1, g.cycleNodes[k]], [2, g.cycleNodes[k + 1]]]) {
+            positions.set(g.positions.subarray(3 * node, 3 * node + 3), 9 * t + 3 * corner);
+            colours.set(colour, 9 * t + 3 * corner);
+          }
+          t++;
+        }
+      }
+      const buffers = new THREE.BufferGeometry();
+      buffers.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+      buffers.setAttribute('color', new THREE.BufferAttribute(colours, 3));
+      this.triangles = triangles;
+      return new THREE.Mesh(buffers, this.faceMaterial);
+    }
+
+    showFaces(visible) {
+      if (this.faces) { this.faces.visible = visible; this.render(); }
     }
 
     resetCamera() {
@@ -382,6 +430,9 @@ const MeshView = (() => {
         get mode() { return view.mode; },
         get scaling() { return view.scaling; },
         get firstDrawMs() { return view.firstDrawMs; },
+        get patches() { return view.geometry ? view.geometry.patches : 0; },
+        get triangles() { return view.triangles || 0; },
+        get facesShown() { return !!(view.faces && view.faces.visible); },
         get camera() { return view.camera ? view.camera.position.toArray() : null; },
         get q() { return view.drawnQ; },
         get arcIds() { return view.geometry ? Array.from(view.geometry.arcIds) : []; },

@@ -34,6 +34,8 @@ struct Decoded {
   std::vector<float> lengths;
   std::vector<int32_t> bundles;
   std::vector<uint8_t> flags;
+  std::vector<int32_t> patch_ids, offsets, cycle_nodes;
+  std::vector<uint8_t> patch_flags;
 };
 
 template <typename T>
@@ -58,7 +60,13 @@ Decoded Decode(const std::string& bytes) {
   d.lengths = Take<float>(bytes, offset, sent);
   d.bundles = Take<int32_t>(bytes, offset, sent);
   d.flags = Take<uint8_t>(bytes, offset, sent);
-  EXPECT_EQ(bytes.size() - offset, (4 - sent % 4) % 4) << "flags padded to 4 bytes, then nothing";
+  offset += (4 - sent % 4) % 4;  // padding
+  const size_t patches = d.header[6], entries = d.header[7];
+  d.patch_ids = Take<int32_t>(bytes, offset, patches);
+  d.offsets = Take<int32_t>(bytes, offset, patches + 1);
+  d.cycle_nodes = Take<int32_t>(bytes, offset, entries);
+  d.patch_flags = Take<uint8_t>(bytes, offset, patches);
+  EXPECT_EQ(bytes.size() - offset, (4 - patches % 4) % 4) << "padded to 4 bytes, then nothing";
   EXPECT_EQ(bytes.size() % 4, 0u);
   return d;
 }
@@ -140,6 +148,19 @@ TEST_F(GeometryRouteTest, TheGeometryIsTheRequestsNodesAndArcs) {
     EXPECT_GE(d.bundles[a], 0);
     EXPECT_LT(d.bundles[a], d.header[5]);
   }
+  // Every patch, as the nodes its halfarcs leave, in cycle order.
+  ASSERT_EQ(d.patch_ids.size(), static_cast<size_t>(mesh.patches_size()));
+  for (int p = 0; p < mesh.patches_size(); ++p) {
+    EXPECT_EQ(d.patch_ids[p], p);
+    const auto& cycle = mesh.patches(p).halfarcs();
+    ASSERT_EQ(d.offsets[p + 1] - d.offsets[p], cycle.size()) << "patch " << p;
+    for (int i = 0; i < cycle.size(); ++i) {
+      const v1::Arc& arc = mesh.arcs(cycle[i] / 2);
+      EXPECT_EQ(d.cycle_nodes[d.offsets[p] + i], cycle[i] % 2 == 0 ? arc.from() : arc.to())
+          << "patch " << p << " halfarc " << cycle[i];
+    }
+    EXPECT_EQ((d.patch_flags[p] & kGeometryBoundary) != 0, mesh.patches(p).boundary());
+  }
 }
 
 TEST_F(GeometryRouteTest, AboveTheLimitEveryCriticalArcAndEveryKthOtherIsSent) {
@@ -172,6 +193,10 @@ TEST_F(GeometryRouteTest, AboveTheLimitEveryCriticalArcAndEveryKthOtherIsSent) {
     seen_critical += mesh.arc_critical(d.arc_ids[i]) ? 1 : 0;
   }
   EXPECT_EQ(seen_critical, critical) << "every critical arc is drawn";
+  int critical_patches = 0;
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) critical_patches += mesh.patch_critical(p);
+  EXPECT_EQ(d.header[6], critical_patches) << "a decimated mesh sends its critical patches";
+  for (int32_t p : d.patch_ids) EXPECT_TRUE(mesh.patch_critical(p)) << "patch " << p;
 }
 
 TEST_F(GeometryRouteTest, OnlyTheOwnerSeesIt) {
