@@ -92,7 +92,9 @@ const MeshView = (() => {
     setUp() {
       if (this.renderer || this.unavailable) return;
       try {
-        this.renderer = new THREE.WebGLRenderer({ antialias: true });
+        // No multisampling: in software WebGL (headless Chromium, machines without a GPU) it made
+        // every frame cost enough to hold up the rest of the page while a job streams.
+        this.renderer = new THREE.WebGLRenderer({ antialias: false });
       } catch (error) {
         this.unavailable = 'WebGL is not available in this browser';
         return;
@@ -140,8 +142,11 @@ const MeshView = (() => {
     // Drops the current mesh (another job is followed).
     clear() {
       if (this.lines) {
-        this.scene.remove(this.lines, this.faces);
+        this.scene.remove(this.lines);
         this.lines.geometry.dispose();
+      }
+      if (this.faces) {
+        this.scene.remove(this.faces);
         this.faces.geometry.dispose();
       }
       Object.assign(this, { geometry: null, q: null, replayQ: null, drawnQ: null, final: false,
@@ -175,9 +180,7 @@ const MeshView = (() => {
       buffers.computeBoundingSphere();
       this.lines = new THREE.LineSegments(buffers, this.material);
       this.scene.add(this.lines);
-      this.faces = this.patchFaces(g);
-      this.faces.visible = this.el.faces.checked;
-      this.scene.add(this.faces);
+      if (this.el.faces.checked) this.showFaces(true);
 
       const container = this.el.container;
       const width = container.clientWidth || 760, height = container.clientHeight || 480;
@@ -253,8 +256,15 @@ const MeshView = (() => {
       return new THREE.Mesh(buffers, this.faceMaterial);
     }
 
+    // Built on first request only: the page must not pay for faces it does not show.
     showFaces(visible) {
-      if (this.faces) { this.faces.visible = visible; this.render(); }
+      if (!this.geometry) return;
+      if (visible && !this.faces) {
+        this.faces = this.patchFaces(this.geometry);
+        this.scene.add(this.faces);
+      }
+      if (this.faces) this.faces.visible = visible;
+      this.render();
     }
 
     resetCamera() {
