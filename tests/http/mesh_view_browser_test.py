@@ -290,7 +290,10 @@ class MeshViewBrowserTest(unittest.TestCase):
     def test_a_100k_arc_part_opens_within_2_s_and_ends_on_its_final_q(self):
         large = laid_out(self.notch, LARGE_COPIES, LARGE_COLUMNS)
         arcs = len(large["arcs"])
-        pb_path = os.path.join(ispq.ARTIFACTS, f"notch_grid_x{LARGE_COPIES}.tmesh.pb")
+        # 22 MB: in a directory of its own, removed with the test rather than left in the build.
+        directory = tempfile.TemporaryDirectory(prefix="ispq-mesh-view-")
+        self.addCleanup(directory.cleanup)
+        pb_path = os.path.join(directory.name, f"notch_grid_x{LARGE_COPIES}.tmesh.pb")
         to_binary(large, pb_path)
         with ispq.Server("--workers=1") as server, Browser() as browser:
             self.open_page(server, browser)
