@@ -16,6 +16,7 @@ PACKAGES=(
   yamllint     # checks the Kubernetes manifests (tests/deploy)
   libmicrohttpd-dev  # the HTTP side of ispq-server (server/http/)
   libgnutls28-dev  # its TLS library, which checks the HTTPS certificate (server/http/http_tls.h)
+  libjs-three  # three.js r111, embedded into the web view's 3-D view at build time (server/http/web)
   chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
   python3-grpcio python3-protobuf python3-pip python3-setuptools  # the Python client (client/python)
 )

@@ -93,7 +93,7 @@ bool ParseElement(CodedInputStream& input, uint32_t length,
 
 // The second pass: each element parsed into one reused message of its kind and handed on.
 absl::Status HandOverElements(google::protobuf::io::ZeroCopyInputStream& bytes,
-                              TMeshElementSink& sink) {
+                              const TMeshWireHooks& hooks, TMeshElementSink& sink) {
   CodedInputStream input(&bytes);
   v1::Node node;
   v1::Arc arc;
@@ -114,6 +114,7 @@ absl::Status HandOverElements(google::protobuf::io::ZeroCopyInputStream& bytes,
     switch (field) {
       case kNodes:
         ISPQ_RETURN_IF_ERROR(parsed(node));
+        if (hooks.on_node) hooks.on_node(node);
         ISPQ_RETURN_IF_ERROR(sink.Node(node));
         break;
       case kArcs:
@@ -134,16 +135,19 @@ absl::Status HandOverElements(google::protobuf::io::ZeroCopyInputStream& bytes,
 
 }  // namespace
 
-absl::StatusOr<TMesh> TMeshFromWire(const TMeshBytesReader& read,
-                                    const TMeshCountsCheck& check_counts,
+absl::StatusOr<TMesh> TMeshFromWire(const TMeshBytesReader& read, const TMeshWireHooks& hooks,
                                     const TMeshValidationOptions& options) {
   absl::StatusOr<Scan> scan = ScanFields(*read());
   if (!scan.ok()) return scan.status();
-  if (check_counts) ISPQ_RETURN_IF_ERROR(check_counts(scan->counts));
+  if (hooks.check_counts) ISPQ_RETURN_IF_ERROR(hooks.check_counts(scan->counts));
   if (!scan->in_field_order) {
     v1::TMesh whole;
     if (!whole.ParseFromZeroCopyStream(read().get())) return NotATMesh("it does not parse");
-    return TMeshFromProto(whole, options);
+    absl::StatusOr<TMesh> mesh = TMeshFromProto(whole, options);
+    if (mesh.ok() && hooks.on_node) {
+      for (const v1::Node& node : whole.nodes()) hooks.on_node(node);
+    }
+    return mesh;
   }
   v1::TMesh header_fields;
   if (!header_fields.ParseFromString(scan->header_fields)) {
@@ -155,7 +159,7 @@ absl::StatusOr<TMesh> TMeshFromWire(const TMeshBytesReader& read,
                          static_cast<int>(scan->counts.blocks)};
   return TMeshFromParts(
       header_fields, sizes,
-      [&read](TMeshElementSink& sink) { return HandOverElements(*read(), sink); }, options);
+      [&](TMeshElementSink& sink) { return HandOverElements(*read(), hooks, sink); }, options);
 }
 
 }  // namespace ispq

@@ -21,6 +21,7 @@
 #include "core/tmesh.h"
 #include "core/tmesh_builder.h"
 #include "google/protobuf/io/zero_copy_stream.h"
+#include "ispq/v1/tmesh.pb.h"
 
 namespace ispq {
 
@@ -28,17 +29,22 @@ namespace ispq {
 using TMeshBytesReader =
     std::function<std::unique_ptr<google::protobuf::io::ZeroCopyInputStream>()>;
 
-// What the first pass found: the element counts, for a caller that bounds them before the mesh is
-// built (an error from the check ends the decoding with it).
+// What the first pass found: the element counts.
 struct TMeshWireCounts {
   int64_t nodes = 0, arcs = 0, patches = 0, blocks = 0;
 };
-using TMeshCountsCheck = std::function<absl::Status(const TMeshWireCounts&)>;
+
+// What a caller may do along the way, both optional: bound the counts before the mesh is built
+// (an error ends the decoding with it), and see each node's message as it is decoded, in id
+// order, for what the model leaves out (its position).
+struct TMeshWireHooks {
+  std::function<absl::Status(const TMeshWireCounts&)> check_counts = {};
+  std::function<void(const v1::Node&)> on_node = {};
+};
 
 // INVALID_ARGUMENT for bytes that are no TMesh message (naming what is wrong), or whatever the
-// decoder says of the mesh (naming the element); `check_counts` may be empty.
-absl::StatusOr<TMesh> TMeshFromWire(const TMeshBytesReader& read,
-                                    const TMeshCountsCheck& check_counts = {},
+// decoder says of the mesh (naming the element).
+absl::StatusOr<TMesh> TMeshFromWire(const TMeshBytesReader& read, const TMeshWireHooks& hooks = {},
                                     const TMeshValidationOptions& options = {});
 
 }  // namespace ispq

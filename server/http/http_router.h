@@ -35,6 +35,9 @@ struct Route {
   bool authenticated = false;  // HttpRequest::principal is the caller, checked before the body
   bool takes_body = false;     // a JSON body, in HttpRequest::body
   bool any_host = false;       // served whatever the Host header (probes: counts only)
+  // The body may also be binary protobuf (Content-Type: application/x-protobuf), which no other
+  // site's page can send without asking first, as with JSON (server/http/origin_policy.h).
+  bool takes_protobuf = false;
   // What a client is told when the route has not answered within HttpLimits::answer_timeout.
   std::string timeout_message = "the server did not answer in time; retry";
   RouteHandler handle;  // must answer through the responder exactly once

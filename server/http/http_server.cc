@@ -18,6 +18,7 @@
 #include "absl/time/clock.h"
 #include "absl/time/time.h"
 #include "server/http/event_stream_route.h"
+#include "server/http/geometry_route.h"
 #include "server/http/job_routes.h"
 #include "server/http/mhd_callbacks.h"
 #include "server/http/operator_routes.h"
@@ -113,6 +114,7 @@ HttpServer::HttpServer(HttpParts parts, HttpLimits limits)
       limits_(std::move(limits)),
       streams_(limits_.max_event_streams),
       deadlines_(limits_.head_deadline, limits_.body_deadline),
+      geometry_(parts_.memory),
       operator_pool_(kOperatorThreads, "ispq-http-ops"),
       lookup_pool_(kLookupThreads, "ispq-http-look"),
       parse_pool_(kParseThreads, "ispq-http-parse") {}
@@ -147,7 +149,8 @@ absl::StatusOr<std::unique_ptr<HttpServer>> HttpServer::Start(const std::string&
 }
 
 absl::Status HttpServer::Serve(int listen_socket, bool ipv6) {
-  AddJobRoutes(router_, parts_, limits_);
+  AddJobRoutes(router_, parts_, limits_, &geometry_);
+  AddGeometryRoute(router_, parts_, geometry_);
   AddEventStreamRoute(router_, parts_, streams_);
   AddOperatorRoutes(
       router_, parts_,

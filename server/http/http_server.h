@@ -50,6 +50,7 @@
 #include "absl/synchronization/mutex.h"
 #include "server/http/connection_deadlines.h"
 #include "server/http/event_streams.h"
+#include "server/http/geometry_cache.h"
 #include "server/http/handler_pool.h"
 #include "server/http/http_parts.h"
 #include "server/http/http_refusals.h"
@@ -100,6 +101,7 @@ class HttpServer {
   PendingExchanges pending_;
   ConnectionDeadlines deadlines_;
   HttpRefusals refusals_;
+  GeometryCache geometry_;  // used by the routes' handlers: outlives the pools
   Router router_;
   std::unique_ptr<OriginPolicy> origins_;
   HandlerPool operator_pool_;

@@ -15,6 +15,7 @@
 #include "server/http/json_guard.h"
 #include "server/http/proto_json.h"
 #include "server/http/query_params.h"
+#include "server/http/request_framing.h"
 #include "server/model/resource_names.h"
 #include "server/service/job_submission.h"
 
@@ -28,11 +29,19 @@ std::string JobName(const HttpRequest& request) {
 // The body, checked, converted to the binary request and accounted in the budget as gRPC's bytes
 // are. While it is converted, the binary form and protobuf's work are reserved at the body's size
 // (an estimate: the binary form of the API's JSON is usually smaller); the JSON body is let go as
-// soon as it is converted.
+// soon as it is converted. A binary body (application/x-protobuf: what a page sends for a
+// `.tmesh.pb` file, whose bytes are the mesh field as they are) already is the request gRPC takes,
+// and is handed on as it came; the parser checks it as it checks gRPC's.
 absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& parts,
                                          const HttpLimits& limits) {
   if (request.body.empty()) {
-    return absl::InvalidArgumentError("the body is empty: send an ispq.v1.QuantizeRequest in JSON");
+    return absl::InvalidArgumentError(
+        "the body is empty: send an ispq.v1.QuantizeRequest in JSON or binary protobuf");
+  }
+  if (IsProtobufBody(request)) {
+    auto bytes = std::make_unique<StringRequestBytes>(std::move(request.body));
+    request.ReleaseBody();  // the bytes moved on; AccountRequest accounts for them
+    return AccountRequest(std::move(bytes), limits.max_body_bytes, parts.memory);
   }
   if (absl::Status checked = CheckJsonBody(request.body); !checked.ok()) return checked;
   absl::StatusOr<MemoryReservation> converted = parts.memory.Reserve(
@@ -47,8 +56,8 @@ absl::StatusOr<RawRequest> BinaryRequest(HttpRequest& request, const HttpParts& 
   return AccountRequest(std::move(bytes), limits.max_body_bytes, parts.memory);
 }
 
-void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& request,
-               const std::shared_ptr<Responder>& responder) {
+void SubmitJob(const HttpParts& parts, const HttpLimits& limits, GeometryCache* geometry,
+               HttpRequest& request, const std::shared_ptr<Responder>& responder) {
   absl::StatusOr<RawRequest> raw = BinaryRequest(request, parts, limits);
   if (!raw.ok()) {
     if (absl::IsInvalidArgument(raw.status())) parts.metrics.RecordRejectedInvalid();
@@ -61,8 +70,10 @@ void SubmitJob(const HttpParts& parts, const HttpLimits& limits, HttpRequest& re
   submission.abandoned = [responder] { return responder->Answered(); };
   // On whichever thread decides; the answer is small (the new job, or the one a repeated
   // requestId names).
-  submission.answer = [&parts, responder](const JobSubmission::Outcome& job) {
+  submission.answer = [&parts, geometry, responder](const JobSubmission::Outcome& job) {
     if (!job.ok()) return responder->Answer(ErrorResponse(job.status()));
+    // The page that submits a job draws it next; a small job may have ended by then.
+    if (geometry != nullptr) geometry->Remember((*job)->name(), (*job)->mesh());
     responder->Answer(JsonResponse((*job)->ToProto(v1::FULL), parts.memory));
   };
   parts.service.Submit(std::move(submission));
@@ -126,16 +137,18 @@ Route JobRoute(const char* method, const char* pattern,
 
 }  // namespace
 
-void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits) {
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits,
+                  GeometryCache* geometry) {
   Route submit = JobRoute("POST", "/v1/jobs", nullptr, parts);
   submit.lane = Lane::kParse;
   submit.takes_body = true;
+  submit.takes_protobuf = true;
   submit.timeout_message = absl::StrCat(
       "the request was not admitted within ", absl::FormatDuration(limits.answer_timeout),
       "; retry with the same requestId to learn what became of it");
-  submit.handle = [&parts, limits](HttpRequest& request,
-                                   const std::shared_ptr<Responder>& responder) {
-    SubmitJob(parts, limits, request, responder);
+  submit.handle = [&parts, limits, geometry](HttpRequest& request,
+                                             const std::shared_ptr<Responder>& responder) {
+    SubmitJob(parts, limits, geometry, request, responder);
   };
   router.Add(std::move(submit));
   router.Add(JobRoute("GET", "/v1/jobs", &ListJobs, parts));

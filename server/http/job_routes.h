@@ -3,7 +3,8 @@
 // (server/service/job_service.h), so that it has the gRPC method's semantics and errors:
 //
 //   POST /v1/jobs               SubmitJob: body an ispq.v1.QuantizeRequest in JSON (a mesh or a
-//                               stored_mesh, options, request_id); answer the Job
+//                               stored_mesh, options, request_id), or in binary protobuf
+//                               (Content-Type: application/x-protobuf); answer the Job
 //   GET  /v1/jobs/{id}          GetJob (?view=BASIC|FULL, default FULL)
 //   GET  /v1/jobs               ListJobs, newest first (?state=RUNNING&pageSize=N&pageToken=T
 //                               &view=BASIC|FULL, default BASIC); answer a ListJobsResponse
@@ -19,13 +20,16 @@
 #ifndef ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 #define ISPQ_SERVER_HTTP_JOB_ROUTES_H_
 
+#include "server/http/geometry_cache.h"
 #include "server/http/http_parts.h"
 #include "server/http/http_router.h"
 
 namespace ispq::server::http {
 
-// `parts` must outlive `router`.
-void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits);
+// `parts` (and `geometry`, if given) must outlive `router`. `geometry`: where a submitted job's
+// mesh is remembered for the web view (server/http/geometry_cache.h); null: nowhere.
+void AddJobRoutes(Router& router, const HttpParts& parts, const HttpLimits& limits,
+                  GeometryCache* geometry = nullptr);
 
 }  // namespace ispq::server::http
 

@@ -92,7 +92,9 @@ absl::Status RequestDispatcher::CheckSender(HttpRequest& request, const Route& r
                                             bool has_body) const {
   // A POST without credentials must be one no other site's page can send (origin_policy.h).
   if (request.method == "POST" && (has_body || request.Header("authorization").empty())) {
-    if (absl::Status type = CheckJsonContentType(request); !type.ok()) return type;
+    if (absl::Status type = CheckJsonContentType(request, route.takes_protobuf); !type.ok()) {
+      return type;
+    }
   }
   if (absl::Status origin = parts_.origins.CheckOrigin(request); !origin.ok()) return origin;
   if (!route.authenticated) return absl::OkStatus();

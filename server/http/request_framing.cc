@@ -23,6 +23,7 @@ constexpr int kContentTooLarge = 413;
 constexpr int kUriTooLong = 414;
 constexpr int kUnsupportedMediaType = 415;
 constexpr int kHeaderFieldsTooLarge = 431;
+constexpr char kProtobufType[] = "application/x-protobuf";
 
 std::vector<absl::string_view> AllOf(const HttpRequest& request, absl::string_view name) {
   std::vector<absl::string_view> values;
@@ -126,7 +127,14 @@ absl::StatusOr<BodyFraming> PlanBody(const HttpRequest& request, int64_t max_bod
   return framing;
 }
 
-absl::Status CheckJsonContentType(const HttpRequest& request) {
+bool IsProtobufBody(const HttpRequest& request) {
+  const std::vector<absl::string_view> types = AllOf(request, "content-type");
+  return types.size() == 1 &&
+         absl::EqualsIgnoreCase(absl::StripAsciiWhitespace(types.front()), kProtobufType);
+}
+
+absl::Status CheckJsonContentType(const HttpRequest& request, bool protobuf_too) {
+  if (protobuf_too && IsProtobufBody(request)) return absl::OkStatus();
   const std::vector<absl::string_view> types = AllOf(request, "content-type");
   bool json = types.size() == 1;
   if (json) {
@@ -142,7 +150,8 @@ absl::Status CheckJsonContentType(const HttpRequest& request) {
   return WithHttpStatus(
       absl::InvalidArgumentError(absl::StrCat(
           "Content-Type ", types.empty() ? "missing" : std::string(types.front().substr(0, 100)),
-          ": send the body as Content-Type: application/json")),
+          ": send the body as Content-Type: application/json",
+          protobuf_too ? " or application/x-protobuf" : "")),
       kUnsupportedMediaType);
 }
 

@@ -35,8 +35,13 @@ struct BodyFraming {
 // How the body arrives (a GET without either header has none).
 absl::StatusOr<BodyFraming> PlanBody(const HttpRequest& request, int64_t max_body_bytes);
 
-// 415 unless the Content-Type is application/json (with at most `charset=utf-8`).
-absl::Status CheckJsonContentType(const HttpRequest& request);
+// 415 unless the Content-Type is application/json (with at most `charset=utf-8`), or, with
+// `protobuf_too`, application/x-protobuf (no parameters).
+absl::Status CheckJsonContentType(const HttpRequest& request, bool protobuf_too = false);
+
+// Whether the body is binary protobuf (its Content-Type application/x-protobuf); only meaningful
+// once CheckJsonContentType(request, true) passed.
+bool IsProtobufBody(const HttpRequest& request);
 
 }  // namespace ispq::server::http
 

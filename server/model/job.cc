@@ -235,6 +235,11 @@ void Job::Abandon(const absl::Status& status) {
   interrupter_.Interrupt();
 }
 
+std::shared_ptr<const TMesh> Job::mesh() const {
+  absl::MutexLock lock(&mutex_);
+  return spec_.mesh;
+}
+
 v1::JobState Job::state() const {
   absl::MutexLock lock(&mutex_);
   return state_;

@@ -79,6 +79,9 @@ class Job {
   const std::string& owner() const { return spec_.owner; }
   // The worker's view while it runs the job; the mesh is null once the job has ended.
   const JobSpec& spec() const { return spec_; }
+  // The mesh while the job is queued or running, null once it has ended (or on a mirror): for
+  // readers other than the worker (the web view's geometry), which may race with the job's end.
+  std::shared_ptr<const TMesh> mesh() const;
   bool bound_to_call() const { return bound_to_call_; }
   const SolveInterrupter& interrupter() const { return interrupter_; }
   absl::Time create_time() const { return create_time_; }

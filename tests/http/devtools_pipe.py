@@ -4,6 +4,7 @@ NUL-terminated JSON commands on its fd 3 and writes responses and events on its 
 it needs neither a websocket library nor a debugging port. Every wait is bounded. The browser dies
 with the test process, however that ends (its own helper processes follow their browser)."""
 import base64
+import fcntl
 import json
 import os
 import select
@@ -15,13 +16,23 @@ import time
 from child_processes import die_with_parent
 
 
+def _high_fd(fd):
+    """`fd` moved to a descriptor numbered 10 or more (close-on-exec, as os.pipe's are)."""
+    high = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, 10)
+    os.close(fd)
+    return high
+
+
 class Browser:
     def __init__(self, chromium="chromium", width=1280, height=1500, timeout=60, extra_args=()):
         if shutil.which(chromium) is None:
             raise RuntimeError(f"{chromium} is not installed (deploy/install-deps.sh installs it)")
         self.profile = tempfile.mkdtemp(prefix="ispq-chromium-")
-        to_browser_read, self._to_browser = os.pipe()
-        self._from_browser, from_browser_write = os.pipe()
+        # Above fd 4: a pipe end that already is fd 3 or 4 would be dup2'ed onto itself, which
+        # leaves it close-on-exec, and Chromium would find no pipe (when the test's parent left
+        # fd 3 free, as an interactive shell does).
+        to_browser_read, self._to_browser = (_high_fd(fd) for fd in os.pipe())
+        self._from_browser, from_browser_write = (_high_fd(fd) for fd in os.pipe())
 
         tie_to_test = die_with_parent()
 

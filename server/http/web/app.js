@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// The ispq web view: lists the server's jobs, starts one from an uploaded T-mesh, and follows a
-// job live over server-sent events (GET /v1/jobs/{id}:watch), drawing its objective over time.
+// The ispq web view: lists the server's jobs, starts one from an uploaded T-mesh (JSON or binary,
+// with its scaling, method and time limit), and follows a job live over server-sent events
+// (GET /v1/jobs/{id}:watch), drawing its objective over time and its mesh in 3-D, coloured by the
+// intermediate quantizations as they stream (mesh_view.js).
 // Plain JavaScript against the server's JSON API; nothing is loaded from elsewhere.
 'use strict';
 
@@ -92,22 +94,111 @@ function newRequestId() {
   return 'web-' + Date.now() + '-' + Math.floor(Math.random() * 1e9);
 }
 
+// What the form asks for, as the fields of a QuantizeRequest (besides the mesh).
+function formOptions() {
+  const kind = $('scaling-kind').value;
+  const options = { method: $('method').value === 'exact' ? 'METHOD_EXACT' : 'METHOD_ISP' };
+  if (kind === 'factor') options.scaling = { factor: Number($('factor').value) };
+  else if (kind === 'hexes') options.scaling = { targetHexes: String(Math.round(Number($('target-hexes').value))) };
+  else options.scaling = { levelPercent: Number($('level').value) };
+  const limit = $('time-limit').value.trim();
+  if (limit !== '') options.timeLimitSeconds = Number(limit);
+  return options;
+}
+
+function scalingText(options) {
+  const s = options.scaling;
+  if (s.factor !== undefined) return 's = ' + s.factor;
+  if (s.targetHexes !== undefined) return s.targetHexes + ' hexes';
+  return 'level ' + s.levelPercent + ' %';
+}
+
+function durationJson(seconds) { return seconds.toFixed(3).replace(/\.?0+$/, '') + 's'; }
+
+// The request in JSON, with the T-mesh's JSON file spliced in as it is; the server validates it
+// and names the offending element if it is not a valid T-mesh.
+function jsonRequest(meshText, options) {
+  const opts = { scaling: options.scaling, method: options.method };
+  if (options.timeLimitSeconds !== undefined) opts.timeLimit = durationJson(options.timeLimitSeconds);
+  return '{"mesh":' + meshText + ',"options":' + JSON.stringify(opts) +
+         ',"progressInterval":"0.05s","intermediateInterval":"0.1s","requestId":' +
+         JSON.stringify(newRequestId()) + '}';
+}
+
+// The request in binary protobuf, for a `.tmesh.pb` file: its bytes are the TMesh message, so they
+// become field 1 (mesh) as they are; the few other fields are written here
+// (proto/ispq/v1/service.proto, quantization.proto).
+const Proto = {
+  varint(out, value) {  // value < 2^53
+    while (value >= 128) { out.push((value % 128) | 128); value = Math.floor(value / 128); }
+    out.push(value);
+  },
+  tag(out, field, wire) { Proto.varint(out, field * 8 + wire); },
+  bytes(out, field, bytes) {
+    Proto.tag(out, field, 2); Proto.varint(out, bytes.length);
+    for (const b of bytes) out.push(b);
+  },
+  double(out, field, value) {
+    Proto.tag(out, field, 1);
+    const data = new DataView(new ArrayBuffer(8));
+    data.setFloat64(0, value, true);
+    for (let i = 0; i < 8; i++) out.push(data.getUint8(i));
+  },
+  duration(out, field, seconds) {
+    const whole = Math.floor(seconds), nanos = Math.round((seconds - whole) * 1e9);
+    const message = [];
+    if (whole) { Proto.tag(message, 1, 0); Proto.varint(message, whole); }
+    if (nanos) { Proto.tag(message, 2, 0); Proto.varint(message, nanos); }
+    Proto.bytes(out, field, message);
+  },
+};
+
+function binaryRequest(meshBytes, options) {
+  const scaling = [], opts = [], rest = [];
+  const s = options.scaling;
+  if (s.factor !== undefined) Proto.double(scaling, 1, s.factor);
+  else if (s.targetHexes !== undefined) { Proto.tag(scaling, 3, 0); Proto.varint(scaling, Number(s.targetHexes)); }
+  else { Proto.tag(scaling, 2, 0); Proto.varint(scaling, s.levelPercent); }
+  Proto.bytes(opts, 1, scaling);
+  if (options.timeLimitSeconds !== undefined) Proto.duration(opts, 6, options.timeLimitSeconds);
+  Proto.tag(opts, 7, 0); Proto.varint(opts, options.method === 'METHOD_EXACT' ? 2 : 1);
+  Proto.bytes(rest, 3, opts);
+  Proto.duration(rest, 4, 0.05);
+  Proto.duration(rest, 5, 0.1);
+  Proto.bytes(rest, 6, new TextEncoder().encode(newRequestId()));
+  const head = [];
+  Proto.tag(head, 1, 2);
+  Proto.varint(head, meshBytes.length);
+  return new Blob([new Uint8Array(head), meshBytes, new Uint8Array(rest)]);
+}
+
+function checkForm(options) {
+  const s = options.scaling;
+  if (s.factor !== undefined && !(s.factor > 0)) return 'the scaling factor must be a positive number';
+  if (s.targetHexes !== undefined && !(Number(s.targetHexes) > 0)) return 'the target hex count must be positive';
+  if (options.timeLimitSeconds !== undefined && !(options.timeLimitSeconds > 0)) return 'the time limit must be a positive number of seconds';
+  return '';
+}
+
 async function submitJob(event) {
   event.preventDefault();
   const file = $('mesh-file').files[0];
-  const level = Number($('level').value);
   if (!file) return;
+  const options = formOptions();
+  const problem = checkForm(options);
+  $('form-message').className = problem ? 'message error' : 'message';
+  $('form-message').textContent = problem;
+  if (problem) return;
   $('submit-job').disabled = true;
-  $('form-message').className = 'message';
   $('form-message').textContent = 'Uploading ' + file.name + '…';
   try {
-    const mesh = await file.text();
-    // The file is spliced in as it is (it is the T-mesh's JSON already); the server validates it
-    // and names the offending element if it is not a valid T-mesh.
-    const body = '{"mesh":' + mesh + ',"options":{"scaling":{"levelPercent":' + JSON.stringify(level) +
-                 '}},"progressInterval":"0.05s","requestId":' + JSON.stringify(newRequestId()) + '}';
-    const job = await api('/v1/jobs', { method: 'POST', body, headers: { 'Content-Type': 'application/json' } });
-    $('form-message').textContent = 'Started ' + job.name + ' (' + file.name + ', level ' + level + ' %)';
+    const binary = /\.(pb|binpb)$/i.test(file.name);
+    const request = binary
+      ? { body: binaryRequest(new Uint8Array(await file.arrayBuffer()), options), type: 'application/x-protobuf' }
+      : { body: jsonRequest(await file.text(), options), type: 'application/json' };
+    const job = await api('/v1/jobs', { method: 'POST', body: request.body, headers: { 'Content-Type': request.type } });
+    $('form-message').textContent = 'Started ' + job.name + ' (' + file.name + ', ' + scalingText(options) +
+                                    (options.method === 'METHOD_EXACT' ? ', exact' : '') + ')';
     follow(job.name);
   } catch (error) {
     $('form-message').className = 'message error';
@@ -115,6 +206,13 @@ async function submitJob(event) {
   } finally {
     $('submit-job').disabled = false;
   }
+}
+
+function showScalingInput() {
+  const kind = $('scaling-kind').value;
+  $('level-field').hidden = kind !== 'level';
+  $('factor-field').hidden = kind !== 'factor';
+  $('hexes-field').hidden = kind !== 'hexes';
 }
 
 // ---- Following a job --------------------------------------------------------------------------
@@ -125,9 +223,42 @@ let meshName = 'mesh';
 // For tests and the curious: every event received, with the delay from its creation on the server.
 window.ispq = { events: [], latenciesMs: [] };
 
+const view = new MeshView.View({
+  container: $('mesh-view'), mode: $('colour-mode'), reset: $('reset-view'), faces: $('show-faces'),
+  legend: $('mesh-legend'), tooltip: $('mesh-tooltip'), caption: $('mesh-caption'),
+});
+
+// The geometry of the followed job, drawn once it arrives (the events may come first: the view
+// keeps the latest q and draws it then).
+async function loadGeometry(name) {
+  const startedAt = performance.now();
+  $('mesh-status').textContent = 'loading the mesh…';
+  try {
+    const headers = token() ? { Authorization: 'Bearer ' + token() } : {};
+    const response = await fetch('/v1/' + name + '/geometry', { headers });
+    if (!response.ok) {
+      let message = response.statusText;
+      try { message = (await response.json()).message; } catch (e) { /* not JSON */ }
+      throw new Error(message);
+    }
+    const buffer = await response.arrayBuffer();
+    if (selected !== name) return;
+    view.show(buffer, startedAt);
+    $('mesh-status').textContent = '';
+  } catch (error) {
+    if (selected === name) $('mesh-status').textContent = 'no 3-D view: ' + error.message;
+  }
+}
+
 function follow(name) {
   if (source) source.close();
   selected = name;
+  view.clear();
+  snapshots = [];
+  replayIndex = null;
+  cursorT = null;
+  updateReplay();
+  loadGeometry(name);
   points = [];
   window.ispq.events = [];
   window.ispq.latenciesMs = [];
@@ -169,6 +300,12 @@ function onEvent(event) {
     $('job-title').textContent = 'Job ' + jobId(event.job) + ' — ' + meshName;
     $('job-arcs').textContent = event.accepted.meshStats ? event.accepted.meshStats.arcs : '—';
     $('job-state').textContent = 'accepted (queue position ' + (event.accepted.queuePosition || 0) + ')';
+    view.setScaling(Number(event.accepted.scaling));
+  }
+  if (event.intermediate) {
+    view.setQ(event.intermediate.q, false);
+    addSnapshot(Number(event.intermediate.progress && event.intermediate.progress.elapsedSeconds),
+                event.intermediate.q, false);
   }
   const progress = event.progress || (event.intermediate && event.intermediate.progress);
   if (progress) showProgress(progress);
@@ -194,6 +331,12 @@ function showProgress(progress) {
 }
 
 function showResult(result) {
+  view.setScaling(Number(result.scaling));
+  view.setQ(result.q, true);
+  if (result.q && result.q.length) {
+    const last = snapshots.length ? snapshots[snapshots.length - 1].t : 0;
+    addSnapshot(Math.max(last, Number((result.stats || {}).solveSeconds || 0)), result.q, true);
+  }
   $('job-state').textContent = result.termination === 'CONVERGED' ? 'succeeded' : 'ended: ' + result.termination;
   $('job-phase').textContent = 'done';
   $('job-objective').textContent = number(result.objective);
@@ -247,6 +390,7 @@ async function cancelJob() {
 function drawCurve() {
   const canvas = $('curve');
   canvas.dataset.points = String(points.length);
+  canvas.dataset.cursor = cursorT === null ? '' : String(cursorT);
   const g = canvas.getContext('2d');
   const W = canvas.width, H = canvas.height;
   const left = 70, right = 16, top = 14, bottom = 40;
@@ -294,11 +438,62 @@ function drawCurve() {
     g.fillStyle = p.separating ? '#1a7f37' : '#b35900';
     g.beginPath(); g.arc(x(p.t), y(p.objective), 3, 0, 2 * Math.PI); g.fill();
   }
+  // The time cursor: the quantization the 3-D view replays.
+  if (cursorT !== null) {
+    g.strokeStyle = '#c62828';
+    g.lineWidth = 1.5;
+    g.setLineDash([5, 4]);
+    const cx = x(Math.min(cursorT, tMax));
+    g.beginPath(); g.moveTo(cx, top); g.lineTo(cx, H - bottom); g.stroke();
+    g.setLineDash([]);
+  }
+}
+
+// ---- Replaying earlier quantizations ----------------------------------------------------------
+
+// Every quantization received for the followed job ({t, q, final}), for the time cursor. At most
+// REPLAY_MAX_VALUES arc values are kept: beyond, the oldest but the first are dropped.
+const REPLAY_MAX_VALUES = 8e6;
+let snapshots = [];
+let replayIndex = null;  // the snapshot replayed, or null: the latest (live)
+let cursorT = null;
+
+function addSnapshot(t, q, final) {
+  snapshots.push({ t: Number.isFinite(t) ? t : 0, q, final });
+  while (snapshots.length > 2 && snapshots.length * q.length > REPLAY_MAX_VALUES) {
+    snapshots.splice(1, 1);
+    if (replayIndex !== null) replayIndex = Math.max(0, replayIndex - 1);
+  }
+  updateReplay();
+}
+
+function updateReplay() {
+  const slider = $('replay');
+  slider.max = String(Math.max(0, snapshots.length - 1));
+  slider.disabled = snapshots.length < 2;
+  slider.value = String(replayIndex === null ? snapshots.length - 1 : replayIndex);
+  const live = replayIndex === null;
+  const shown = live ? snapshots[snapshots.length - 1] : snapshots[replayIndex];
+  $('replay-label').textContent = !shown ? 'none yet'
+    : (live ? 'latest' : 'replaying') + ' (' + (Number(slider.value) + 1) + ' of ' + snapshots.length +
+      ', at ' + number(shown.t, 3) + ' s' + (shown.final ? ', final' : '') + ')';
+  view.replay(live ? null : shown.q);
+  cursorT = live ? null : shown.t;
+  drawCurve();
+}
+
+function onReplay() {
+  const index = Number($('replay').value);
+  replayIndex = index >= snapshots.length - 1 ? null : index;
+  updateReplay();
 }
 
 // ---- Start ------------------------------------------------------------------------------------
 
 $('upload-form').addEventListener('submit', submitJob);
+$('scaling-kind').addEventListener('change', showScalingInput);
+$('replay').addEventListener('input', onReplay);
+showScalingInput();
 $('cancel-job').addEventListener('click', cancelJob);
 $('token').value = sessionStorage.getItem('ispq-token') || '';
 $('token').addEventListener('change', () => sessionStorage.setItem('ispq-token', token()));

@@ -64,10 +64,20 @@ TEST(TMeshFromWireTest, EveryRealMeshDecodesAsTheWholeMessageDoes) {
     const absl::StatusOr<TMesh> whole = TMeshFromProto(proto);
     ASSERT_TRUE(whole.ok()) << whole.status();
     Bytes bytes{.bytes = proto.SerializeAsString(), .piece = 4096};
-    const absl::StatusOr<TMesh> streamed = TMeshFromWire(bytes.reader());
+    std::vector<std::vector<double>> positions;  // what the caller sees of each node, in order
+    const absl::StatusOr<TMesh> streamed =
+        TMeshFromWire(bytes.reader(), {.on_node = [&positions](const v1::Node& node) {
+                        positions.emplace_back(node.position().begin(), node.position().end());
+                      }});
     ASSERT_TRUE(streamed.ok()) << streamed.status();
     EXPECT_EQ(bytes.reads, 2) << "one pass to count, one to decode";
     ExpectSameMesh(*whole, *streamed);
+    ASSERT_EQ(positions.size(), static_cast<size_t>(proto.nodes_size()));
+    for (int n = 0; n < proto.nodes_size(); ++n) {
+      ASSERT_EQ(positions[n], std::vector<double>(proto.nodes(n).position().begin(),
+                                                  proto.nodes(n).position().end()))
+          << "node " << n;
+    }
   }
 }
 
@@ -77,10 +87,10 @@ TEST(TMeshFromWireTest, TheCallerSeesTheCountsFirstAndMayStopThere) {
   Bytes bytes{.bytes = proto.SerializeAsString()};
   TMeshWireCounts seen;
   const absl::StatusOr<TMesh> refused =
-      TMeshFromWire(bytes.reader(), [&seen](const TMeshWireCounts& counts) {
-        seen = counts;
-        return absl::InvalidArgumentError("too many arcs");
-      });
+      TMeshFromWire(bytes.reader(), {.check_counts = [&seen](const TMeshWireCounts& counts) {
+                      seen = counts;
+                      return absl::InvalidArgumentError("too many arcs");
+                    }});
   EXPECT_EQ(refused.status(), absl::InvalidArgumentError("too many arcs"));
   EXPECT_EQ(bytes.reads, 1) << "refused before the elements were decoded";
   EXPECT_EQ(seen.nodes, proto.nodes_size());
@@ -106,8 +116,14 @@ TEST(TMeshFromWireTest, InterleavedElementListsDecodeAsTheMessage) {
   v1::TMesh parsed;
   ASSERT_TRUE(parsed.ParseFromString(bytes.bytes));
   ASSERT_EQ(parsed.nodes_size(), proto.nodes_size());
-  const absl::StatusOr<TMesh> streamed = TMeshFromWire(bytes.reader());
+  int nodes_seen = 0;
+  const absl::StatusOr<TMesh> streamed =
+      TMeshFromWire(bytes.reader(), {.on_node = [&](const v1::Node& node) {
+                      EXPECT_EQ(node.position(0), proto.nodes(nodes_seen).position(0));
+                      ++nodes_seen;
+                    }});
   ASSERT_TRUE(streamed.ok()) << streamed.status();
+  EXPECT_EQ(nodes_seen, proto.nodes_size()) << "each node seen once, in id order";
   const absl::StatusOr<TMesh> whole = TMeshFromProto(proto);
   ASSERT_TRUE(whole.ok());
   ExpectSameMesh(*whole, *streamed);

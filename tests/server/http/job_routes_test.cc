@@ -145,6 +145,39 @@ TEST_F(JobRoutesTest, ABadBodyIsRefusedAsInvalidBeforeAdmission) {
   EXPECT_EQ(service_.budget.used(MemoryUse::kRequests), 0);
 }
 
+TEST_F(JobRoutesTest, ABinaryBodyIsTheRequestGrpcTakes) {
+  std::string id;
+  const Route* submit = routes_.Find("POST", "/v1/jobs", &id);
+  ASSERT_NE(submit, nullptr);
+  EXPECT_TRUE(submit->takes_protobuf);
+  auto post = [&](std::string body) {
+    HttpRequest request = RouteRequest("POST", "/v1/jobs");
+    request.headers.emplace_back("content-type", "application/x-protobuf");
+    request.body = std::move(body);
+    auto responder = std::make_shared<RecordingResponder>();
+    submit->handle(request, responder);
+    EXPECT_TRUE(request.body.empty()) << "the body is let go once handed on";
+    return responder->WaitForAnswer();
+  };
+  const HttpResponse admitted = post(NotchRequest("binary-1").SerializeAsString());
+  ASSERT_EQ(admitted.status, 200) << admitted.body;
+  const v1::Job job = ParseJson<v1::Job>(admitted.body);
+  EXPECT_EQ(job.request_id(), "binary-1");
+  EXPECT_EQ(job.mesh_stats().arcs(), NotchRequest().mesh().arcs_size());
+  // The same request in JSON is the same job: one request, two encodings.
+  EXPECT_EQ(routes_.Submit(NotchRequest("binary-1")).name(), job.name());
+
+  v1::QuantizeRequest bad_arc = NotchRequest();
+  bad_arc.mutable_mesh()->mutable_arcs(3)->set_length(-1);
+  for (const auto& [body, named] : std::vector<std::pair<std::string, std::string>>{
+           {bad_arc.SerializeAsString(), "arc 3"}, {"\xff\xff\xff", ""}, {"", "empty"}}) {
+    const HttpResponse refused = post(body);
+    EXPECT_EQ(refused.status, 400) << named;
+    EXPECT_THAT(ErrorMessage(refused), HasSubstr(named));
+  }
+  EXPECT_EQ(service_.budget.used(MemoryUse::kRequests), 0);
+}
+
 TEST_F(JobRoutesTest, AJobIsVisibleToItsOwnerAndAdminsOnly) {
   const v1::Job job = routes_.Submit(NotchRequest());
   const std::string path = "/v1/" + job.name();

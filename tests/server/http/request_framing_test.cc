@@ -89,5 +89,20 @@ TEST(RequestFramingTest, TakesOnlyJson) {
             415);
 }
 
+TEST(RequestFramingTest, ProtobufIsAcceptedOnlyWhereTheRouteTakesIt) {
+  const HttpRequest protobuf = Post({{"content-type", "application/x-protobuf"}});
+  EXPECT_EQ(HttpStatusOf(CheckJsonContentType(protobuf)), 415);
+  EXPECT_TRUE(CheckJsonContentType(protobuf, /*protobuf_too=*/true).ok());
+  EXPECT_TRUE(IsProtobufBody(protobuf));
+  EXPECT_FALSE(IsProtobufBody(Post({{"content-type", "application/json"}})));
+  // Still nothing a cross-site form can send without asking first.
+  for (const char* other : {"text/plain", "application/x-www-form-urlencoded",
+                            "application/x-protobuf; charset=utf-8", "application/octet-stream"}) {
+    const absl::Status refused = CheckJsonContentType(Post({{"content-type", other}}), true);
+    EXPECT_EQ(HttpStatusOf(refused), 415) << other;
+    EXPECT_THAT(refused.message(), HasSubstr("application/x-protobuf")) << other;
+  }
+}
+
 }  // namespace
 }  // namespace ispq::server::http

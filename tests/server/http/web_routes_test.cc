@@ -5,8 +5,12 @@
 // a new server version changes.
 #include "server/http/web_routes.h"
 
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
@@ -84,6 +88,25 @@ TEST_F(WebRoutesTest, AnswersForbidSniffingForeignContentAndStaleCopies) {
     EXPECT_THAT(policy, HasSubstr("default-src 'self'")) << asset.path;
     EXPECT_THAT(policy, HasSubstr("connect-src 'self'")) << asset.path;
   }
+}
+
+// The 3-D view's library is Debian's libjs-three, embedded byte for byte at build time from where
+// server/http/CMakeLists.txt finds it.
+TEST_F(WebRoutesTest, ThreeJsIsDebiansFileAsItIs) {
+  for (const auto& [path, file] : std::vector<std::pair<std::string, std::string>>{
+           {"/vendor/three.min.js", "/usr/share/javascript/three/three.min.js"},
+           {"/vendor/OrbitControls.js",
+            "/usr/share/javascript/three/examples/js/controls/OrbitControls.js"}}) {
+    std::ifstream in(file, std::ios::binary);
+    ASSERT_TRUE(in) << file;
+    const std::string installed((std::istreambuf_iterator<char>(in)), {});
+    const HttpResponse served = Get(path);
+    ASSERT_EQ(served.status, 200) << path;
+    EXPECT_THAT(served.content_type, HasSubstr("text/javascript")) << path;
+    EXPECT_TRUE(served.static_body == installed) << path << ": not the installed file";
+  }
+  EXPECT_THAT(std::string(Get("/vendor/three.min.js").static_body), HasSubstr("REVISION=\"111\""));
+  EXPECT_THAT(std::string(Get("/index.html").static_body), HasSubstr("/vendor/three.min.js"));
 }
 
 TEST_F(WebRoutesTest, OnlyTheEmbeddedFilesAreServed) {

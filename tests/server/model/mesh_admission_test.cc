@@ -13,7 +13,9 @@
 #include "core/mesh_stats.h"
 #include "core/proto/mesh_stats_proto.h"
 #include "gmock/gmock.h"
+#include "google/protobuf/io/zero_copy_stream_impl_lite.h"
 #include "gtest/gtest.h"
+#include "server/model/mesh_positions.h"
 #include "tests/support/test_data.h"
 
 namespace ispq::server {
@@ -64,6 +66,42 @@ TEST(MeshAdmissionTest, TheAdmittedMeshCarriesItsStatistics) {
   EXPECT_EQ(admitted->stats.SerializeAsString(),
             MeshStatsToProto(ComputeMeshStats(*admitted->mesh)).SerializeAsString());
   EXPECT_GT(admitted->stats.subproblems(), 0);
+}
+
+// From the bytes of an upload (AdmitMeshBytes, never one parsed message): the same mesh, the same
+// statistics and the same node positions as from the message; the arc limit and the validator's
+// messages as from the message.
+TEST(MeshAdmissionTest, BytesAreAdmittedAsTheMessageIs) {
+  const v1::TMesh proto = Notch();
+  const std::string bytes = proto.SerializeAsString();
+  const TMeshBytesReader read = [&bytes] {
+    return std::make_unique<google::protobuf::io::ArrayInputStream>(
+        bytes.data(), static_cast<int>(bytes.size()), /*block_size=*/100);
+  };
+  const absl::StatusOr<AdmittedMesh> from_message = AdmitMesh(proto, proto.arcs_size());
+  const absl::StatusOr<AdmittedMesh> from_bytes = AdmitMeshBytes(read, proto.arcs_size());
+  ASSERT_TRUE(from_message.ok()) << from_message.status();
+  ASSERT_TRUE(from_bytes.ok()) << from_bytes.status();
+  EXPECT_EQ(from_bytes->stats.SerializeAsString(), from_message->stats.SerializeAsString());
+  const NodePositions* positions = NodePositionsOf(from_bytes->mesh);
+  ASSERT_NE(positions, nullptr);
+  EXPECT_EQ(*positions, *NodePositionsOf(from_message->mesh));
+  EXPECT_EQ(positions->size(), static_cast<size_t>(proto.nodes_size()));
+
+  const absl::Status too_many = AdmitMeshBytes(read, proto.arcs_size() - 1).status();
+  EXPECT_EQ(too_many, AdmitMesh(proto, proto.arcs_size() - 1).status());
+  v1::TMesh broken = proto;
+  broken.mutable_arcs(3)->set_length(-1);
+  const std::string broken_bytes = broken.SerializeAsString();
+  const absl::Status refused =
+      AdmitMeshBytes(
+          [&broken_bytes] {
+            return std::make_unique<google::protobuf::io::ArrayInputStream>(
+                broken_bytes.data(), static_cast<int>(broken_bytes.size()));
+          },
+          proto.arcs_size())
+          .status();
+  EXPECT_EQ(refused, AdmitMesh(broken, proto.arcs_size()).status());
 }
 
 // The reservation travels in the mesh's shared ownership: a store entry and a job may hold the
