@@ -861,7 +861,7 @@ def phase_rolling(deployment, batch, failures):
         DURATIONS[f"rolling_{replica.index}_stop_seconds"] = round(stopped, 1)
         DURATIONS[f"rolling_{replica.index}_readyz_while_stopping"] = seen
     # Reported, not required: the long job seen first may be the short level of the long mesh and
-    # end during preStop (seen once in five runs). The kill phase always hits a running job.
+    # end during preStop (2 of the last 3 runs). The kill phase always hits a running job.
     DURATIONS["rolling_replacements_with_running_jobs"] = caught
     if not caught:
         log("rolling: no replacement caught a running job this time")
