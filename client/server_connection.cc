@@ -4,6 +4,8 @@
 #include "absl/status/status.h"
 #include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/string_view.h"
+#include "absl/strings/strip.h"
 #include "core/read_file.h"
 #include "grpcpp/create_channel.h"
 #include "grpcpp/security/credentials.h"
@@ -83,6 +85,18 @@ std::string ChannelTarget(const std::string& address) {
   return absl::StrCat(absl::StartsWith(address, "[") ? "ipv6:" : "ipv4:", address);
 }
 
+std::string ChannelAuthority(const std::string& address) {
+  const std::string target = ChannelTarget(address);
+  for (const absl::string_view scheme : {"ipv4:", "ipv6:"}) {
+    if (!absl::StartsWith(target, scheme)) continue;
+    absl::string_view addresses = absl::StripPrefix(target, scheme);
+    addresses = absl::StripPrefix(addresses, "//");
+    if (!absl::StrContains(addresses, ',')) return "";
+    return std::string(addresses.substr(0, addresses.find(',')));
+  }
+  return "";
+}
+
 absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnection& connection) {
   if (connection.address.empty()) return absl::InvalidArgumentError("no server address given");
   absl::StatusOr<std::shared_ptr<grpc::ChannelCredentials>> credentials = Credentials(connection);
@@ -93,6 +107,9 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnectio
   absl::StatusOr<std::string> service_config = ServiceConfig(connection.lb_policy);
   if (!service_config.ok()) return service_config.status();
   arguments.SetServiceConfigJSON(*service_config);
+  if (const std::string authority = ChannelAuthority(connection.address); !authority.empty()) {
+    arguments.SetString(GRPC_ARG_DEFAULT_AUTHORITY, authority);
+  }
   return grpc::CreateCustomChannel(ChannelTarget(connection.address), *credentials, arguments);
 }
 

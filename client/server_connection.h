@@ -46,6 +46,12 @@ absl::StatusOr<std::shared_ptr<grpc::Channel>> OpenChannel(const ServerConnectio
 // takes a bare comma-separated list as one DNS name); anything else is returned as is.
 std::string ChannelTarget(const std::string& address);
 
+// The authority of a channel to an address list (HOST:PORT,HOST:PORT, ipv4:..., ipv6:...): its
+// first address. gRPC would otherwise take the whole list as the authority, the name TLS verifies
+// the server's certificate against, and refuse every replica ("Peer name 10.0.0.1:1,10.0.0.2:2 is
+// not in peer certificate"). Empty for anything else (gRPC's default is right).
+std::string ChannelAuthority(const std::string& address);
+
 }  // namespace ispq::client
 
 #endif  // ISPQ_CLIENT_SERVER_CONNECTION_H_

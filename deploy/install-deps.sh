@@ -19,6 +19,10 @@ PACKAGES=(
   libjs-three  # three.js r111, embedded into the web view's 3-D view at build time (server/http/web)
   chromium python3-prometheus-client  # its browser and /metrics tests (tests/http)
   python3-grpcio python3-protobuf python3-pip python3-setuptools  # the Python client (client/python)
+  # The container deployment test (tests/deploy/containers): podman builds and runs the image
+  # (buildah, runc, the CNI plugins, fuse-overlayfs, slirp4netns and uidmap with it); debootstrap
+  # makes its debian:bookworm base from the Debian mirror, as no registry is reachable.
+  podman buildah runc uidmap fuse-overlayfs slirp4netns debootstrap
 )
 
 missing=()

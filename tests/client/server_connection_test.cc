@@ -21,6 +21,17 @@ TEST(ServerConnectionTest, AddressListsBecomeAddressTargets) {
   EXPECT_EQ(ChannelTarget("[::1]:50051,[::2]:50051"), "ipv6:[::1]:50051,[::2]:50051");
 }
 
+TEST(ServerConnectionTest, AnAddressListIsAddressedAsItsFirstAddress) {
+  EXPECT_EQ(ChannelAuthority("10.0.0.1:50051,10.0.0.2:50051"), "10.0.0.1:50051");
+  EXPECT_EQ(ChannelAuthority("ipv4:10.0.0.1:1,10.0.0.2:2"), "10.0.0.1:1");
+  EXPECT_EQ(ChannelAuthority("[::1]:50051,[::2]:50051"), "[::1]:50051");
+  EXPECT_EQ(ChannelAuthority("ipv6:[::1]:1,[::2]:2"), "[::1]:1");
+  for (const std::string target :
+       {"127.0.0.1:50051", "localhost:50051", "dns:///ispq.svc:50051", "ipv4:10.0.0.1:1"}) {
+    EXPECT_EQ(ChannelAuthority(target), "") << target;
+  }
+}
+
 TEST(ServerConnectionTest, SingleAddressesAndUrisPassThrough) {
   for (const std::string target :
        {"127.0.0.1:50051", "localhost:50051", "[::1]:50051", "dns:///ispq.svc:50051",
