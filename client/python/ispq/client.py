@@ -51,6 +51,20 @@ def _service_config(lb_policy: Optional[str]) -> str:
     return json.dumps(config)
 
 
+def _list_authority(target: str) -> str:
+    """The first address of an address list (ipv4:A,B or ipv6:A,B), else "". gRPC would take the
+    whole list as the channel's authority, the name TLS checks the server's certificate against,
+    and refuse every server ("Peer name A,B is not in peer certificate"), as the C++ client did
+    (client/server_connection.h, ChannelAuthority)."""
+    for scheme in ("ipv4:", "ipv6:"):
+        if target.startswith(scheme):
+            addresses = target[len(scheme):]
+            if addresses.startswith("//"):
+                addresses = addresses[2:]
+            return addresses.split(",")[0] if "," in addresses else ""
+    return ""
+
+
 def _read(path: Optional[str]) -> Optional[bytes]:
     if path is None:
         return None
@@ -88,6 +102,9 @@ class Client:
                    ("grpc.max_send_message_length", -1),  # the server enforces its own limit
                    ("grpc.enable_retries", 1),
                    ("grpc.service_config", _service_config(lb_policy))]
+        authority = _list_authority(target)
+        if authority:
+            options.append(("grpc.default_authority", authority))
         if tls or ca_file or cert_file:
             credentials = grpc.ssl_channel_credentials(_read(ca_file), _read(key_file),
                                                        _read(cert_file))

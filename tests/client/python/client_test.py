@@ -271,6 +271,35 @@ class ClientTest(unittest.TestCase):
             finally:
                 client_module.load_tmesh = loader
 
+    def test_tls_to_an_address_list_checks_the_certificate_of_each_server(self):
+        # Two TLS servers with one certificate for 127.0.0.1, named as an address list: the
+        # certificate is checked against each address, not against the list as one name; a client
+        # without the CA is refused.
+        with tempfile.TemporaryDirectory() as directory:
+            def openssl(*args):
+                subprocess.run(["openssl", *args], cwd=directory, check=True,
+                               capture_output=True, timeout=120)
+            openssl("req", "-x509", "-newkey", "rsa:2048", "-nodes", "-days", "2", "-subj",
+                    "/CN=test CA", "-keyout", "ca.key", "-out", "ca.crt")
+            openssl("req", "-newkey", "rsa:2048", "-nodes", "-subj", "/CN=localhost", "-keyout",
+                    "server.key", "-out", "server.csr")
+            with open(os.path.join(directory, "server.ext"), "w") as f:
+                f.write("subjectAltName=DNS:localhost,IP:127.0.0.1\n")
+            openssl("x509", "-req", "-in", "server.csr", "-CA", "ca.crt", "-CAkey", "ca.key",
+                    "-CAcreateserial", "-days", "2", "-extfile", "server.ext", "-out", "server.crt")
+            tls = [f"--tls_cert={directory}/server.crt", f"--tls_key={directory}/server.key"]
+            with Server(*tls) as first, Server(*tls) as second:
+                target = f"ipv4:{first.address},{second.address}"
+                ca = os.path.join(directory, "ca.crt")
+                with ispq.Client(target, ca_file=ca, lb_policy="round_robin") as client:
+                    for _ in range(2):  # round robin: one job on each server
+                        self.assert_valid_and_local(PRISM, client.quantize(mesh_path(PRISM),
+                                                                           level=25), 25)
+                with ispq.Client(target, tls=True) as untrusted:
+                    with self.assertRaises(ispq.IspqError) as refused:
+                        untrusted.quantize(mesh_path(PRISM), level=25, timeout=30)
+                    self.assertEqual(refused.exception.code, grpc.StatusCode.UNAVAILABLE)
+
     def test_tmesh_files_in_both_formats(self):
         from_json = ispq.load_tmesh(mesh_path(NOTCH))
         self.assertGreater(len(from_json.arcs), 0)
