@@ -246,10 +246,9 @@ absl::StatusOr<v1::Mesh> JobService::AdmitUploadedMesh(MeshCreation& creation) {
     return memory.status();
   }
   absl::StatusOr<AdmittedMesh> mesh = AdmitMeshBytes(read, limits_.max_arcs, *std::move(memory));
-  const MeshBytesSource serialized([&bytes, offset] {
+  const MeshBytesSource serialized([&read] {
     std::string mesh_bytes;
-    std::unique_ptr<google::protobuf::io::ZeroCopyInputStream> in = bytes.Read();
-    in->Skip(static_cast<int>(offset));
+    std::unique_ptr<google::protobuf::io::ZeroCopyInputStream> in = read();
     const void* data;
     int size;
     while (in->Next(&data, &size)) mesh_bytes.append(static_cast<const char*>(data), size);

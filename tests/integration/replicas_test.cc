@@ -26,6 +26,7 @@
 #include "tests/integration/service_test_support.h"
 #include "tests/support/bounded_wait.h"
 #include "tests/support/postgres_instance.h"
+#include "tests/support/postgres_suite.h"
 
 namespace ispq::testing {
 namespace {
@@ -33,18 +34,8 @@ namespace {
 // Short, so that a killed replica's jobs are run again quickly; renewed every third of it.
 constexpr double kLeaseSeconds = 1.5;
 
-class ReplicasTest : public ::testing::Test {
+class ReplicasTest : public PostgresSuite {
  protected:
-  static void SetUpTestSuite() {
-    absl::StatusOr<std::unique_ptr<PostgresInstance>> started = PostgresInstance::Start();
-    ASSERT_TRUE(started.ok()) << started.status();
-    postgres_ = started->release();
-  }
-  static void TearDownTestSuite() {
-    delete postgres_;
-    postgres_ = nullptr;
-  }
-
   void SetUp() override {
     absl::StatusOr<std::string> uri =
         postgres_->CreateDatabase(absl::StrCat("replicas", next_database_++));
@@ -83,14 +74,9 @@ class ReplicasTest : public ::testing::Test {
     }
   }
 
-  static PostgresInstance* postgres_;
-  static int next_database_;
   std::string uri_;
   std::vector<std::unique_ptr<ServerProcess>> replicas_;
 };
-
-PostgresInstance* ReplicasTest::postgres_ = nullptr;
-int ReplicasTest::next_database_ = 0;
 
 TEST_F(ReplicasTest, AJobSubmittedToOneReplicaIsWatchedFetchedAndCancelledThroughTheOthers) {
   ASSERT_NO_FATAL_FAILURE(StartReplicas(3));
