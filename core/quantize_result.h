@@ -10,6 +10,8 @@
 #include <optional>
 #include <vector>
 
+#include "core/separation_row.h"
+
 namespace ispq {
 
 enum class Termination : uint8_t {
@@ -73,6 +75,10 @@ struct QuantizeResult {
   // lower_bound <= objective. Only for valid results, and in ISP mode only if asked.
   std::optional<double> lower_bound;
   std::optional<double> gap;  // (objective - lower_bound) / objective; 0 if both are 0
+  // The separation rows (eq. 1c) the run ended with that q satisfies, over arcs, each bundle
+  // written as its smallest arc: the rows the lower bound is certified for, and what a view
+  // highlights as the critical entities the run had to keep apart.
+  std::vector<SeparationRow> separation_rows;
   int64_t hexes = 0;          // only meaningful if valid
   QuantizeStats stats;
 };

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <optional>
+#include <vector>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -42,6 +43,7 @@ absl::Status RunExactMode(const TMesh& mesh, const QuantizeOptions& options,
   result.stats.milp_solves = exact.milp_solves;
   result.stats.milp_nodes = exact.milp_nodes;
   result.stats.milp_incumbents = exact.incumbents;
+  result.separation_rows = std::move(exact.separation_rows);
   return absl::OkStatus();
 }
 
@@ -151,18 +153,23 @@ absl::StatusOr<QuantizeResult> Quantize(const TMesh& mesh, const QuantizeOptions
   result.termination = outcome.termination;
   result.q = std::move(outcome.q);
   result.stats = outcome.stats;
+  result.separation_rows = std::move(outcome.separation_rows);
   // Exact mode needs a valid start; without one (the time ran out in ISP) ISP's answer stands.
   if (exact && outcome.separating && outcome.termination == Termination::kConverged) {
     ISPQ_RETURN_IF_ERROR(RunExactMode(mesh, options, start, observer, interrupter, result));
   }
   ISPQ_RETURN_IF_ERROR(Certify(mesh, options, outcome.separating, separation, result));
+  // A row that the best q violates came after it (sufficient, not necessary: q may separate the
+  // same entities another way); it is not part of the problem that q's bound is certified for.
+  std::erase_if(result.separation_rows,
+                [&](const SeparationRow& row) { return !row.IsSatisfiedBy(result.q); });
   // A stopped run returns at once: its bound would cost time nobody granted.
   const bool stopped = result.termination == Termination::kTimeLimit ||
                        result.termination == Termination::kInterrupted;
   if (!result.valid) {
     result.lower_bound.reset();
   } else if (!exact && !stopped && WantsIspBound(mesh, options)) {
-    ISPQ_RETURN_IF_ERROR(AddIspBound(mesh, options, outcome.separation_rows, result));
+    ISPQ_RETURN_IF_ERROR(AddIspBound(mesh, options, result.separation_rows, result));
   }
   if (result.lower_bound.has_value()) {
     ISPQ_RETURN_IF_ERROR(ReconcileBound(result));

@@ -222,7 +222,7 @@ ExactOutcome ExactSearch::Finish(bool proven) const {
   outcome.milp_solves = solves_;
   outcome.milp_nodes = nodes_;
   outcome.incumbents = checker_.checked();
-  outcome.separation_rows = constraints_.num_separation_rows();
+  outcome.separation_rows = constraints_.SeparationRowsOverArcs();
   return outcome;
 }
 

@@ -49,7 +49,8 @@ struct ExactOutcome {
   int64_t milp_solves = 0;
   int64_t milp_nodes = 0;
   int64_t incumbents = 0;  // candidates checked by the separation search
-  int64_t separation_rows = 0;
+  // The separation rows of the last MILP, over arcs: those the lower bound is proven for.
+  std::vector<SeparationRow> separation_rows;
 };
 
 // `start` must be a valid q (consistent, simple rows, separating). `clock` bounds the run;

@@ -71,6 +71,17 @@ void QuantizationConstraints::UseFailsafeForms() {
   }
 }
 
+std::vector<SeparationRow> QuantizationConstraints::SeparationRowsOverArcs() const {
+  std::vector<SeparationRow> rows;
+  rows.reserve(separation_index_.size());
+  for (const int r : separation_index_) {
+    SeparationRow& row = rows.emplace_back();
+    for (const LinearTerm& t : inequalities_[r]) row.terms.push_back({bundles_.arcs(t.var)[0], t.coef});
+    row.rhs = rhs_[r];
+  }
+  return rows;
+}
+
 int64_t QuantizationConstraints::Value(std::span<const LinearTerm> terms,
                                        std::span<const int64_t> x) {
   int64_t sum = 0;

@@ -38,6 +38,8 @@ class QuantizationConstraints {
   std::span<const LinearTerm> inequality(int i) const { return inequalities_[i]; }
   int64_t rhs(int i) const { return rhs_[i]; }
   int num_separation_rows() const { return static_cast<int>(failsafe_.size()); }
+  // The separation rows in the form now in force, over arcs (each bundle as its smallest arc).
+  std::vector<SeparationRow> SeparationRowsOverArcs() const;
 
   // Adds a separation row given over arcs with its failsafe twin (nullopt: the row is its own
   // twin). A default row that bundling empties can never hold; its twin is used instead. Returns

@@ -107,6 +107,14 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   if (result.lower_bound.has_value()) proto.set_lower_bound(*result.lower_bound);
   if (result.gap.has_value()) proto.set_gap(*result.gap);
   proto.set_mesh_name(mesh.name());
+  for (const SeparationRow& row : result.separation_rows) {
+    v1::SeparationRow* out = proto.add_separation_rows();
+    for (const LinearTerm& term : row.terms) {
+      out->add_arcs(term.var);
+      out->add_coefficients(term.coef);
+    }
+    out->set_rhs(row.rhs);
+  }
   const QuantizeStats& s = result.stats;
   v1::QuantizationStats* stats = proto.mutable_stats();
   stats->set_lp_solves(s.lp_solves);

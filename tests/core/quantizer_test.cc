@@ -4,12 +4,18 @@
 #include "core/quantizer.h"
 
 #include <cmath>
+#include <iostream>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "absl/status/status.h"
+#include "core/arc_bundles.h"
 #include "core/block_extents.h"
+#include "core/consistency_matrix.h"
+#include "core/exact/cbc_milp_solver.h"
+#include "core/exact/lower_bound.h"
 #include "core/quantization_limits.h"
 #include "core/quantization_validator.h"
 #include "gmock/gmock.h"
@@ -34,6 +40,27 @@ double Objective(const TMesh& mesh, double scaling, const std::vector<int64_t>& 
   return sum;
 }
 
+// The result's separation rows hold for its q and name each bundle by its smallest arc, once.
+void ExpectSeparationRowsOverBundles(const TMesh& mesh, const QuantizeResult& result,
+                                     const std::string& context) {
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  for (const SeparationRow& row : result.separation_rows) {
+    EXPECT_TRUE(row.IsSatisfiedBy(result.q)) << context;
+    EXPECT_FALSE(row.terms.empty()) << context;
+    std::vector<BundleId> seen;
+    for (const LinearTerm& term : row.terms) {
+      ASSERT_GE(term.var, 0) << context;
+      ASSERT_LT(term.var, mesh.num_arcs()) << context;
+      EXPECT_NE(term.coef, 0) << context;
+      const BundleId b = bundles.bundle_of(term.var);
+      EXPECT_EQ(bundles.arcs(b)[0], term.var) << context << ": not its bundle's smallest arc";
+      EXPECT_THAT(seen, ::testing::Not(::testing::Contains(b))) << context;
+      seen.push_back(b);
+    }
+  }
+}
+
 // Checks a converged result against the validator and recomputes what it reports.
 void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
                        const QuantizeResult& result, const std::string& context) {
@@ -51,6 +78,7 @@ void ExpectValidResult(const TMesh& mesh, const QuantizeOptions& options,
       << context;
   EXPECT_EQ(result.hexes, HexCount(mesh, result.q).value_or(-1)) << context;
   EXPECT_GT(result.stats.lp_solves, 0) << context;
+  ExpectSeparationRowsOverBundles(mesh, result, context);
   EXPECT_EQ(result.stats.lcd_one + result.stats.lcd_two + result.stats.lcd_more > 0,
             result.stats.lp_solves > 0)
       << context;
@@ -97,6 +125,55 @@ TEST(QuantizerTest, CubeGetsOneOnEveryArc) {
     EXPECT_NEAR(result->objective, 3.0, 0.01) << level.percent;
     ExpectValidResult(cube, options, *result, "cube");
   }
+}
+
+// The rows a result carries are the rows its bound is proven for: the bound computed again from
+// them is the result's, and without them it is never higher.
+TEST(QuantizerTest, ResultCarriesTheSeparationRowsItsBoundIsProvenFor) {
+  int with_rows = 0, raised = 0;
+  for (const std::string& path : RealTMeshFiles()) {
+    const TMesh mesh = LoadTMeshOrDie(path);
+    for (const Level& level : mesh.levels()) {
+      if (level.percent != 100 && level.percent != 10) continue;
+      QuantizeOptions options;
+      options.scaling = level.scaling;
+      options.lower_bound = LowerBoundMode::kAlways;
+      const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+      const std::string context = ShortName(path) + " at " + std::to_string(level.percent) + "%";
+      ASSERT_TRUE(result.ok()) << context << ": " << result.status();
+      ASSERT_TRUE(result->lower_bound.has_value()) << context;
+      ExpectSeparationRowsOverBundles(mesh, *result, context);
+      if (result->separation_rows.empty()) continue;
+      ++with_rows;
+      const std::unique_ptr<MilpSolver> solver = NewCbcMilpSolver();
+      const absl::StatusOr<double> again =
+          ComputeLowerBound(mesh, options, result->q, result->separation_rows, *solver);
+      ASSERT_TRUE(again.ok()) << context << ": " << again.status();
+      EXPECT_NEAR(*again, *result->lower_bound, 1e-9 * (1 + *result->lower_bound)) << context;
+      const absl::StatusOr<double> without =
+          ComputeLowerBound(mesh, options, result->q, {}, *solver);
+      ASSERT_TRUE(without.ok()) << context << ": " << without.status();
+      EXPECT_LE(*without, *again + 1e-9 * (1 + *again)) << context;
+      if (*without < *again - 1e-6 * (1 + *again)) ++raised;
+    }
+  }
+  // The set has meshes whose features need rows beyond the simple ones at these levels, and on
+  // some of them the rows are what lifts the bound.
+  EXPECT_GE(with_rows, 10);
+  EXPECT_GE(raised, 1);
+  std::cout << with_rows << " results with rows, " << raised << " bounds raised by them\n";
+}
+
+TEST(QuantizerTest, ExactModeCarriesTheRowsOfItsLastMilp) {
+  const TMesh mesh = LoadTMeshOrDie(RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
+  QuantizeOptions options;
+  options.scaling = mesh.levels().back().scaling;
+  options.method = QuantizationMethod::kExact;
+  const absl::StatusOr<QuantizeResult> result = Quantize(mesh, options);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_EQ(result->termination, Termination::kOptimal);
+  ExpectSeparationRowsOverBundles(mesh, *result, "notch, exact");
+  EXPECT_FALSE(result->separation_rows.empty());
 }
 
 const std::vector<std::string>& SwitchMeshes() {

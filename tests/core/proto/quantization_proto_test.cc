@@ -156,6 +156,21 @@ TEST(QuantizationProtoTest, AResultKeepsItsValuesAndLeavesAbsentBoundsUnset) {
   EXPECT_EQ(with_bound.gap(), 1.0);
 }
 
+TEST(QuantizationProtoTest, SeparationRowsKeepTheirTermsInOrder) {
+  QuantizeResult result = SampleResult();
+  EXPECT_EQ(QuantizationResultToProto(result, 1.0, Mesh()).separation_rows_size(), 0);
+  result.separation_rows = {{.terms = {{4, 1}, {0, 2}, {7, -1}}, .rhs = 1},
+                            {.terms = {{3, 1}}, .rhs = 2}};
+  const v1::QuantizationResult proto = QuantizationResultToProto(result, 1.0, Mesh());
+  ASSERT_EQ(proto.separation_rows_size(), 2);
+  EXPECT_THAT(proto.separation_rows(0).arcs(), ::testing::ElementsAre(4, 0, 7));
+  EXPECT_THAT(proto.separation_rows(0).coefficients(), ::testing::ElementsAre(1, 2, -1));
+  EXPECT_EQ(proto.separation_rows(0).rhs(), 1);
+  EXPECT_THAT(proto.separation_rows(1).arcs(), ::testing::ElementsAre(3));
+  EXPECT_THAT(proto.separation_rows(1).coefficients(), ::testing::ElementsAre(1));
+  EXPECT_EQ(proto.separation_rows(1).rhs(), 2);
+}
+
 // The hex count only means something for a valid q; an invalid result reports 0.
 TEST(QuantizationProtoTest, AnInvalidResultHasNoHexCount) {
   QuantizeResult invalid = SampleResult();
