@@ -8,17 +8,20 @@ collapsed). The same for the issue's 100k-arc part (1333 copies of the bundled n
 grid, 22 MB of .tmesh.pb), which must be drawn within 2 s of asking for its geometry. Also: the
 form's options reach the job (exact method, factor scaling, time limit), the view's controls and
 canvas are reached by Tab and the canvas orbits by keyboard, hovering an arc names it with its
-numbers, the time cursor replays an earlier q, and the page asks nothing of any host but the
-server.
+numbers, the time cursor replays an earlier q, the arcs of the result's separation rows are
+highlighted (every drawn arc of a bundle a row names, read from the geometry route's own bundle
+ids) and the highlight can be switched off, and the page asks nothing of any host but the server.
 
 The mesh: the bundled femur shell (a real T-mesh of 296 arcs) in exact mode, whose solve streams
 four improving quantizations over about a second before its optimum, converted to binary protobuf
 with the schema compiled by protoc at test time. Artifacts: screenshots (mesh_view.png,
-mesh_view_100k.png) and the timings (mesh_view_timing.json, mesh_view_100k_timing.json) in the
+mesh_view_rows.png, mesh_view_100k.png) and the timings (mesh_view_timing.json, mesh_view_100k_timing.json) in the
 build's test-artifacts/."""
+import http.client
 import json
 import os
 import re
+import struct
 import subprocess
 import sys
 import tempfile
@@ -55,6 +58,28 @@ COLOUR_CHECK = """(() => {
   }
   return JSON.stringify({checked: v.arcIds.length, bad: bad.slice(0, 10), badCount: bad.length});
 })()"""
+
+
+SEPARATION_ROW = [0.11, 0.62, 0.47]
+
+
+def geometry_bundles(server, job_name):
+    """Arc -> bundle id, from the binary GET /v1/jobs/{id}/geometry (server/http/mesh_geometry.h)."""
+    connection = http.client.HTTPConnection("127.0.0.1", server.http_port, timeout=60)
+    try:
+        connection.request("GET", f"/v1/{job_name}/geometry")
+        response = connection.getresponse()
+        body = response.read()
+    finally:
+        connection.close()
+    assert response.status == 200, (response.status, body[:200])
+    header = struct.unpack_from("<8i", body, 0)
+    nodes, sent = header[1], header[3]
+    offset = 32 + 12 * nodes
+    arc_ids = struct.unpack_from(f"<{sent}i", body, offset)
+    offset += 4 * sent + 8 * sent + 4 * sent  # arc ids, ends, lengths
+    bundles = struct.unpack_from(f"<{sent}i", body, offset)
+    return dict(zip(arc_ids, bundles))
 
 
 def compact_json(value):
@@ -177,6 +202,32 @@ class MeshViewBrowserTest(unittest.TestCase):
             check = json.loads(browser.evaluate(COLOUR_CHECK % json.dumps(q)))
             self.assertEqual(check["checked"], arcs)
             self.assertEqual(check["badCount"], 0, check)
+            # The separation rows' arcs: every drawn arc of a bundle a row names (by its smallest
+            # arc) is green unless collapsed (q = 0 stays magenta); the rest keep their q's colour.
+            rows = result.get("separationRows", [])
+            self.assertGreater(len(rows), 0, "the femur needs separation rows in exact mode")
+            bundle_of = geometry_bundles(server, job_name)
+            on_rows = {bundle_of[arc] for row in rows for arc in row["arcs"]}
+            row_arcs = sorted(arc for arc in range(arcs) if bundle_of[arc] in on_rows)
+            self.assertEqual(browser.evaluate("ispqView.separationRows"), len(rows))
+            self.assertEqual(json.loads(browser.evaluate("JSON.stringify(ispqView.rowArcs)")),
+                             row_arcs)
+            self.assertLess(len(row_arcs), arcs, "not every arc is on a row")
+            colours = json.loads(browser.evaluate(
+                "JSON.stringify(ispqView.arcIds.map(a => ispqView.colourOf(a)))"))
+            for arc in row_arcs:
+                if q[arc] != 0:
+                    self.assertEqual([round(c, 2) for c in colours[arc]], SEPARATION_ROW, arc)
+            legend = browser.evaluate("document.getElementById('mesh-legend').textContent")
+            self.assertIn(f"the arcs of the {len(rows)} separation rows", legend)
+            browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")
+            browser.screenshot(os.path.join(ispq.ARTIFACTS, "mesh_view_rows.png"))
+            # Switched off, every arc shows its q's colour again.
+            browser.evaluate("document.getElementById('show-rows').click()")
+            browser.wait_for("ispqView.rowArcs.length === 0 && "
+                             "!document.getElementById('mesh-legend').textContent"
+                             ".includes('separation row')")
+
             # What the colours mean, checked here rather than by the page's own function.
             scaling = float(result["scaling"])
             colours = browser.evaluate(
@@ -200,7 +251,7 @@ class MeshViewBrowserTest(unittest.TestCase):
             # Hovering an arc names it with its target, q and bundle (the nearest arc under the
             # pointer: which one is the raycast's choice, its numbers must be that arc's).
             browser.evaluate("document.getElementById('mesh-figure').scrollIntoView()")
-            x, y = browser.evaluate("ispqView.screenPointOf(ispqView.arcIds[0])")
+            x, y = browser.evaluate(f"ispqView.screenPointOf({row_arcs[0]})")
             browser.call("Input.dispatchMouseEvent", {"type": "mouseMoved", "x": x, "y": y},
                          session=True)
             tip = browser.wait_for("!document.getElementById('mesh-tooltip').hidden && "
@@ -209,6 +260,7 @@ class MeshViewBrowserTest(unittest.TestCase):
             self.assertIsNotNone(match, tip)
             hovered = int(match.group(1))
             self.assertEqual(int(match.group(3)), q[hovered], tip)
+            self.assertEqual("separation row" in tip, hovered in row_arcs, tip)
             self.assertAlmostEqual(float(match.group(2)),
                                    scaling * self.mesh["arcs"][hovered]["length"], places=3)
 

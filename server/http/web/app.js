@@ -225,7 +225,7 @@ window.ispq = { events: [], latenciesMs: [] };
 
 const view = new MeshView.View({
   container: $('mesh-view'), mode: $('colour-mode'), reset: $('reset-view'), faces: $('show-faces'),
-  legend: $('mesh-legend'), tooltip: $('mesh-tooltip'), caption: $('mesh-caption'),
+  rows: $('show-rows'), legend: $('mesh-legend'), tooltip: $('mesh-tooltip'), caption: $('mesh-caption'),
 });
 
 // The geometry of the followed job, drawn once it arrives (the events may come first: the view
@@ -333,6 +333,7 @@ function showProgress(progress) {
 function showResult(result) {
   view.setScaling(Number(result.scaling));
   view.setQ(result.q, true);
+  view.setSeparationRows(result.separationRows || []);
   if (result.q && result.q.length) {
     const last = snapshots.length ? snapshots[snapshots.length - 1].t : 0;
     addSnapshot(Math.max(last, Number((result.stats || {}).solveSeconds || 0)), result.q, true);

@@ -8,7 +8,10 @@
 // Colour modes: the deviation q - s*l of each arc from its scaled target (diverging: blue where
 // the arc was rounded down, grey where it kept its target, red where it was rounded up), q itself
 // (a sequential scale), or what makes an arc critical (singular, feature, boundary). Arcs with
-// q = 0 (collapsed) are drawn in magenta in the first two modes, whatever their deviation. The
+// q = 0 (collapsed) are drawn in magenta in the first two modes, whatever their deviation. When the
+// job ends, the arcs of the separation rows its result enforces (the paths along which the run had
+// to keep two critical entities apart) are drawn in green in every mode, unless that is switched
+// off: a row names each bundle by one arc, and every drawn arc of that bundle is highlighted. The
 // patches can be shown as translucent faces (off by default: in software WebGL a large mesh's
 // faces cost more to draw than its lines).
 //
@@ -32,6 +35,7 @@ const MeshView = (() => {
   const SINGULAR = [0.80, 0.10, 0.10];
   const FEATURE = [0.90, 0.50, 0.0];
   const BOUNDARY_CRITICAL = [0.12, 0.43, 0.92];
+  const SEPARATION_ROW = [0.11, 0.62, 0.47];  // #1b9e77: apart from both ends of every scale
 
   // The geometry response as typed arrays over its buffer (no copies).
   function parseGeometry(buffer) {
@@ -65,7 +69,7 @@ const MeshView = (() => {
   }
 
   class View {
-    // `elements`: {container, mode, reset, faces, legend, tooltip, caption}.
+    // `elements`: {container, mode, reset, faces, rows, legend, tooltip, caption}.
     constructor(elements) {
       this.el = elements;
       this.mode = elements.mode.value;
@@ -79,9 +83,12 @@ const MeshView = (() => {
       this.pending = false;
       this.firstDrawMs = null;
       this.range = 1;          // the deviation or q the scale ends at
+      this.rows = [];          // the result's separation rows: [{arcs, coefficients, rhs}]
+      this.rowsOfSegment = null;  // per drawn segment, the indices of the rows through its bundle
       elements.mode.addEventListener('change', () => { this.mode = elements.mode.value; this.schedule(); });
       elements.reset.addEventListener('click', () => this.resetCamera());
       elements.faces.addEventListener('change', () => this.showFaces(elements.faces.checked));
+      elements.rows.addEventListener('change', () => this.schedule());
       this.setUp();
       this.publish();
     }
@@ -151,7 +158,8 @@ const MeshView = (() => {
       }
       Object.assign(this, { geometry: null, q: null, replayQ: null, drawnQ: null, final: false,
                             drawnFinal: false, recolours: 0, firstDrawMs: null, scaling: null,
-                            lines: null, faces: null, triangles: 0 });
+                            lines: null, faces: null, triangles: 0, rows: [],
+                            rowsOfSegment: null });
       this.render();
       this.el.caption.textContent = '';
       this.el.legend.replaceChildren();
@@ -197,6 +205,7 @@ const MeshView = (() => {
         ? g.arcs + ' arcs, ' + g.nodes + ' nodes'
         : 'decimated: ' + g.sent + ' of ' + g.arcs + ' arcs shown (every critical arc and 1 in ' +
           g.stride + ' of the others), ' + g.nodes + ' nodes';
+      this.markRows();
       this.recolour();
       if (startedAt !== undefined) this.firstDrawMs = performance.now() - startedAt;
       this.publish();
@@ -292,6 +301,39 @@ const MeshView = (() => {
       this.schedule();
     }
 
+    // The final result's separation rows (QuantizationResult.separation_rows in its JSON form).
+    setSeparationRows(rows) {
+      this.rows = Array.isArray(rows) ? rows : [];
+      this.markRows();
+      this.schedule();
+    }
+
+    // Which rows pass through each drawn segment's bundle. A row's arc is its bundle's smallest;
+    // when a decimated view left that arc out, the bundle is unknown here and stays unmarked.
+    markRows() {
+      const g = this.geometry;
+      if (!g) return;
+      this.rowsOfSegment = null;
+      if (!this.rows.length) return;
+      const rowsOfBundle = new Map();
+      this.rows.forEach((row, r) => {
+        for (const arc of row.arcs || []) {
+          const i = this.indexOf(arc);
+          if (i < 0) continue;
+          const b = g.bundle[i];
+          if (!rowsOfBundle.has(b)) rowsOfBundle.set(b, []);
+          const list = rowsOfBundle.get(b);
+          if (list[list.length - 1] !== r) list.push(r);
+        }
+      });
+      this.rowsOfSegment = new Array(g.sent);
+      for (let i = 0; i < g.sent; i++) this.rowsOfSegment[i] = rowsOfBundle.get(g.bundle[i]) || null;
+    }
+
+    highlightsRow(i) {
+      return this.el.rows.checked && this.rowsOfSegment !== null && this.rowsOfSegment[i] !== null;
+    }
+
     // Shows an earlier quantization instead of the latest (null: the latest again).
     replay(q) {
       if (q === this.replayQ) return;
@@ -308,6 +350,7 @@ const MeshView = (() => {
 
     colourFor(i, q) {
       const g = this.geometry, flags = g.flags[i];
+      if (q !== 0 && this.highlightsRow(i)) return SEPARATION_ROW;
       if (this.mode === 'criticality') {
         if (flags & FLAG.singular) return SINGULAR;
         if (flags & FLAG.feature) return FEATURE;
@@ -378,6 +421,10 @@ const MeshView = (() => {
                    swatch(KEPT, '0'), swatch(mix(KEPT, UP, 0.5), '+' + +(r / 2).toFixed(2)),
                    swatch(UP, '+' + r + ' (rounded up)'), swatch(ZERO, 'q = 0'));
       }
+      if (this.rows.length && this.el.rows.checked) {
+        const n = this.rows.length;
+        items.push(swatch(SEPARATION_ROW, 'the arcs of the ' + n + ' separation row' + (n === 1 ? '' : 's')));
+      }
       if (this.drawnQ) {
         const which = this.replayQ ? 'an earlier q (time cursor)' : this.final ? 'final q' : 'intermediate q';
         items.push(document.createTextNode(' · ' + which));
@@ -400,10 +447,19 @@ const MeshView = (() => {
       const kinds = ['critical', 'singular', 'feature', 'boundary'].filter((k) => g.flags[i] & FLAG[k]);
       tooltip.textContent = 'arc ' + arc + ' · target ' + target.toFixed(3) +
         ' · q ' + (q === undefined ? '—' : q) + ' · bundle ' + g.bundle[i] +
-        (kinds.length ? ' · ' + kinds.join(', ') : '');
+        (kinds.length ? ' · ' + kinds.join(', ') : '') + this.rowsText(i);
       tooltip.style.left = (event.clientX - rect.left + 12) + 'px';
       tooltip.style.top = (event.clientY - rect.top + 12) + 'px';
       tooltip.hidden = false;
+    }
+
+    // " · separation rows 3, 7" for a segment whose bundle is on rows (numbered from 1).
+    rowsText(i) {
+      const rows = this.rowsOfSegment ? this.rowsOfSegment[i] : null;
+      if (!rows) return '';
+      const shown = rows.slice(0, 5).map((r) => r + 1).join(', ');
+      return ' · separation row' + (rows.length === 1 ? ' ' : 's ') + shown +
+             (rows.length > 5 ? ' and ' + (rows.length - 5) + ' more' : '');
     }
 
     // The segment of `arc` (an id of the mesh; the ids sent ascend), or -1 if it is not drawn.
@@ -445,6 +501,12 @@ const MeshView = (() => {
         get facesShown() { return !!(view.faces && view.faces.visible); },
         get camera() { return view.camera ? view.camera.position.toArray() : null; },
         get q() { return view.drawnQ; },
+        get separationRows() { return view.rows.length; },
+        // The arcs on the separation rows while they are shown (green, or magenta if q = 0).
+        get rowArcs() {
+          const g = view.geometry;
+          return g ? Array.from(g.arcIds).filter((arc, i) => view.highlightsRow(i)) : [];
+        },
         get arcIds() { return view.geometry ? Array.from(view.geometry.arcIds) : []; },
         colourOf: (arc) => view.colourOf(arc),
         // Where the middle of `arc` is drawn, in the page's client coordinates (to hover it).
