@@ -12,9 +12,17 @@ or a ServiceMonitor), an Ingress whose host the server answers, no service-accou
 store's URI from a Secret, dual-stack listen, a pinned image, and a termination grace period that
 covers the server's shutdown.
 
-Custom resources are validated against their CRDs' schemas (tests/deploy/schemas, copied from
-KEDA and the Prometheus Operator with their provenance; crd_schema.py): KEDA's ScaledObject and
-TriggerAuthentication, the ServiceMonitor. Core kinds are held to the rules above. Beyond KEDA's
+Every rendered document (and every Secret of secrets.example.yaml) is validated against its
+schema first, strictly (an unknown field is an error, as with `kubectl apply --validate=strict`),
+and a document whose kind has no schema is a problem, so that no new kind slips through
+unchecked. Core kinds (Deployment, StatefulSet, Service, NetworkPolicy, Ingress,
+PodDisruptionBudget, HorizontalPodAutoscaler, Secret, ...) against Kubernetes' own OpenAPI v3
+schema of 1.27, the oldest release deploy/README.md supports, and of 1.35 (the definitions they
+reach, extracted from Kubernetes' api/openapi-spec/v3 into tests/deploy/schemas/
+kubernetes-core.json by schemas/extract_core_schemas.py; openapi_schema.py). Custom resources
+against their CRDs' schemas (tests/deploy/schemas, copied from KEDA and the Prometheus Operator with
+their provenance; crd_schema.py): KEDA's ScaledObject and TriggerAuthentication, the
+ServiceMonitor. The rules above hold valid objects to more than a schema can say. Beyond KEDA's
 schema: the postgresql trigger counts the queue with the server's own query
 (PostgresJobStore::QueuedCount) and reads the job store's URI from the Secret the Deployment reads
 it from, a cpu trigger is there, and no second HPA targets the Deployment.
@@ -31,16 +39,19 @@ import sys
 import yaml
 
 import crd_schema
+import openapi_schema
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 KUBERNETES = os.path.join(ROOT, "deploy", "kubernetes")
 # overlay: pinned by digest
 OVERLAYS = {"in-cluster-postgres": False, "production": True, "production-with-operators": True}
-SCHEMAS = {}  # (apiVersion, kind): openAPIV3Schema
-for _file in sorted(os.listdir(os.path.join(HERE, "schemas"))):
+SCHEMAS = {}  # (apiVersion, kind): openAPIV3Schema of a custom resource
+for _file in sorted(f for f in os.listdir(os.path.join(HERE, "schemas")) if f.endswith(".yaml")):
     _api, _kind, _schema = crd_schema.load_crd_schema(os.path.join(HERE, "schemas", _file))
     SCHEMAS[(_api, _kind)] = _schema
+# Kubernetes version: openapi_schema.CoreSchemas of the core kinds
+CORE_SCHEMAS = openapi_schema.load(os.path.join(HERE, "schemas", "kubernetes-core.json"))
 # The keys KEDA's postgresql scaler reads from a trigger's metadata (pkg/scalers/
 # postgresql_scaler.go, postgreSQLMetadata, at the commit of schemas/); anything else is a typo.
 POSTGRESQL_METADATA = {"query", "targetQueryValue", "activationTargetQueryValue", "host", "port",
@@ -117,7 +128,9 @@ def host_allowed(host, allowed):
 
 def problems(docs, pinned_by_digest=False):
     """The list of rules `docs` break (empty when all hold)."""
-    found = []
+    found = schema_problems(docs)
+    if found:
+        return found  # the rules below need objects of the right shape
     by_kind = {}
     for doc in docs:
         by_kind.setdefault(doc["kind"], []).append(doc)
@@ -210,7 +223,6 @@ def problems(docs, pinned_by_digest=False):
     found += network_policy_problems(by_kind, spec, container, http_port)
     found += scrape_problems(by_kind, spec["template"], container, http_port, http_tls)
     found += ingress_problems(by_kind, container, args, http_port)
-    found += schema_problems(by_kind)
     found += database_connection_problems(by_kind, spec, args)
     target = {"apiVersion": "apps/v1", "kind": "Deployment", "name": "ispq-server"}
     hpas = [h for h in by_kind.get("HorizontalPodAutoscaler", [])
@@ -231,15 +243,26 @@ def problems(docs, pinned_by_digest=False):
     return found
 
 
-def schema_problems(by_kind):
-    """Every object of a custom resource with a schema in tests/deploy/schemas against it."""
+def schema_problems(docs):
+    """Every document against its schema: a custom resource against its CRD's, a core kind against
+    Kubernetes' of each version of CORE_SCHEMAS; a kind with neither is a problem."""
     found = []
-    for docs in by_kind.values():
-        for doc in docs:
-            schema = SCHEMAS.get((doc["apiVersion"], doc["kind"]))
-            if schema is not None:
-                found += [f"{doc['kind']} {doc['metadata']['name']}: {e}"
-                          for e in crd_schema.validate(doc, schema)]
+    for doc in docs:
+        api_version, kind = doc.get("apiVersion"), doc.get("kind")
+        name = f"{kind} {(doc.get('metadata') or {}).get('name')}"
+        if (api_version, kind) in SCHEMAS:
+            schema = SCHEMAS[(api_version, kind)]
+            found += [f"{name}: {e}" for e in crd_schema.validate(doc, schema)]
+            continue
+        versions = {}  # error: the Kubernetes versions whose schema reports it
+        known = [core for core in CORE_SCHEMAS.values() if core.knows(api_version, kind)]
+        for core in known:
+            for error in core.validate_document(doc):
+                versions.setdefault(error, []).append(core.version)
+        found += [f"{name}: {e} (Kubernetes {', '.join(v)})" for e, v in versions.items()]
+        if not known:
+            found.append(f"{name}: no schema for {api_version} {kind} (a CRD's in tests/deploy/"
+                         "schemas, or add the kind to schemas/extract_core_schemas.py)")
     return found
 
 
@@ -355,13 +378,7 @@ def ingress_problems(by_kind, container, args, http_port):
 
 def keda_problems(by_kind, scaled, hpas, container):
     """KEDA's objects validate against their CRDs and count what the server counts."""
-    found = []
-    for doc in by_kind.get("ScaledObject", []) + by_kind.get("TriggerAuthentication", []):
-        if (doc["apiVersion"], doc["kind"]) not in SCHEMAS:
-            found.append(f"{doc['kind']} {doc['metadata']['name']}: no schema for "
-                         f"{doc['apiVersion']} (tests/deploy/schemas)")
-    if found or schema_problems(by_kind):
-        return found  # schema_problems reports the rest; the rules below need valid objects
+    found = []  # problems() has validated them against their schemas already
     if hpas:
         found.append("an HPA beside the ScaledObject: KEDA makes its own, two would fight")
     env = {e["name"]: e for e in container.get("env", [])}
@@ -421,7 +438,6 @@ def keda_problems(by_kind, scaled, hpas, container):
                 found.append(f"TriggerAuthentication {reference['name']}: connection from the "
                              f"Deployment's job store Secret {store_secret.get('name')}")
     return found
-    return found
 
 
 def _container(docs):
@@ -438,8 +454,45 @@ def _trigger(docs, kind):
     return next(t for t in _one(docs, "ScaledObject")["spec"]["triggers"] if t["type"] == kind)
 
 
-# name: (the kind that must be in the overlay for the rule to apply, what breaks it)
+# name: (the kind that must be in the overlay for the rule to apply, what breaks it[, a piece of
+# the problem that must be reported, e.g. the field's path])
 BREAKERS = {
+    # Kubernetes' schema of the core kinds: an unknown field, a type, a required field, a kind
+    # without a schema...
+    "container unknown field": ("Deployment", lambda d: _container(d).__setitem__(
+        "imagePullPolicyy", "IfNotPresent"),
+        "Deployment ispq-server: $.spec.template.spec.containers[0].imagePullPolicyy: unknown "
+        "field (Kubernetes 1.27, 1.35)"),
+    "replicas type": ("Deployment", lambda d: _one(d, "Deployment")["spec"].__setitem__(
+        "replicas", "3"), "$.spec.replicas: '3' is not of type integer"),
+    "container name required": ("Deployment", lambda d: _container(d).pop("name"),
+                                "$.spec.template.spec.containers[0].name: missing (required)"),
+    "int-or-string": ("Deployment", lambda d: _container(d)["readinessProbe"]["httpGet"]
+                      .__setitem__("port", 8443.5),
+                      "$.spec.template.spec.containers[0].readinessProbe.httpGet.port: 8443.5 "
+                      "is not exactly one of integer or string"),
+    "duplicate container port": ("Deployment", lambda d: _container(d)["ports"].append(
+        dict(_container(d)["ports"][0])), "duplicate key (containerPort, protocol)"),
+    "service port type": ("Service", lambda d: _one(d, "Service", "ispq-server")["spec"]["ports"]
+                          [0].__setitem__("port", str(_one(d, "Service", "ispq-server")["spec"]
+                                                     ["ports"][0]["port"])),
+                          "Service ispq-server: $.spec.ports[0].port: "),
+    "network policy unknown field": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy")["spec"]
+                                     ["ingress"][0]["ports"][0].__setitem__("protocl", "TCP"),
+                                     "NetworkPolicy ispq-server: $.spec.ingress[0].ports[0]"
+                                     ".protocl: unknown field"),
+    "pdb int-or-string": ("PodDisruptionBudget", lambda d: _one(d, "PodDisruptionBudget")["spec"]
+                          .__setitem__("minAvailable", True), "$.spec.minAvailable: True"),
+    "hpa type": ("HorizontalPodAutoscaler", lambda d: _one(d, "HorizontalPodAutoscaler")["spec"]
+                 .__setitem__("maxReplicas", "10"), "$.spec.maxReplicas: '10' is not of type"),
+    "ingress unknown field": ("Ingress", lambda d: _one(d, "Ingress")["spec"].__setitem__(
+        "ingressClass", "nginx"), "Ingress ispq-web: $.spec.ingressClass: unknown field"),
+    "statefulset unknown field": ("StatefulSet", lambda d: _one(d, "StatefulSet")["spec"]
+                                  ["template"]["spec"].__setitem__("terminationGracePeriod", 10),
+                                  "$.spec.template.spec.terminationGracePeriod: unknown field"),
+    "kind without schema": ("Deployment", lambda d: d.append({
+        "apiVersion": "v1", "kind": "LimitRange", "metadata": {"name": "ispq"}, "spec": {}}),
+        "LimitRange ispq: no schema for v1 LimitRange"),
     "token": ("Deployment", lambda d: _one(d, "Deployment")["spec"]["template"]["spec"].pop(
         "automountServiceAccountToken")),
     "replicas": ("Deployment", lambda d: _one(d, "Deployment")["spec"].__setitem__("replicas", 1)),
@@ -516,7 +569,8 @@ BREAKERS = {
         "apiVersion": "autoscaling/v2", "kind": "HorizontalPodAutoscaler",
         "metadata": {"name": "ispq-server"},
         "spec": {"scaleTargetRef": {"apiVersion": "apps/v1", "kind": "Deployment",
-                                    "name": "ispq-server"}, "metrics": []}})),
+                                    "name": "ispq-server"}, "maxReplicas": 10, "metrics": []}}),
+        "an HPA beside the ScaledObject"),
 }
 
 
@@ -525,14 +579,18 @@ def check_the_checks(docs):
     breakers that applied."""
     failures, applied = [], []
     kinds = {d["kind"] for d in docs}
-    for name, (kind, breaker) in BREAKERS.items():
+    for name, (kind, breaker, *expected) in BREAKERS.items():
         if kind not in kinds:
             continue
         broken = copy.deepcopy(docs)
         breaker(broken)
         applied.append(name)
-        if not problems(broken):
+        found = problems(broken)
+        if not found:
             failures.append(f"a copy with broken '{name}' passed the checks")
+        elif expected and not any(expected[0] in p for p in found):
+            failures.append(f"a copy with broken '{name}' was caught, but not as "
+                            f"{expected[0]!r}: {found}")
     return failures, applied
 
 
@@ -551,11 +609,19 @@ def main():
         failures += [f"{overlay}: {p}" for p in caught]
         print(f"{overlay}: {len(docs)} objects: " +
               ", ".join(sorted(f"{d['kind']}/{d['metadata']['name']}" for d in docs)))
+        core = [d for d in docs if any(c.knows(d["apiVersion"], d["kind"])
+                                       for c in CORE_SCHEMAS.values())]
+        custom = [d for d in docs if (d["apiVersion"], d["kind"]) in SCHEMAS]
+        print(f"{overlay}: validated against Kubernetes {', '.join(CORE_SCHEMAS)}'s schema: "
+              f"{len(core)} ({', '.join(sorted({d['kind'] for d in core}))}); against a CRD's: "
+              f"{len(custom)} ({', '.join(sorted({d['kind'] for d in custom})) or 'none'})")
         print(f"{overlay}: {len(applied)} broken copies caught: {', '.join(applied)}")
     for path in sorted(os.listdir(os.path.join(KUBERNETES, "overlays", "in-cluster-postgres"))):
         if path.endswith(".yaml"):
             with open(os.path.join(KUBERNETES, "overlays", "in-cluster-postgres", path)) as file:
-                list(yaml.safe_load_all(file))
+                docs = [doc for doc in yaml.safe_load_all(file) if doc]
+            if path != "kustomization.yaml":  # the example Secrets, not part of the overlay
+                failures += [f"in-cluster-postgres/{path}: {p}" for p in schema_problems(docs)]
     if failures:
         print("\n".join(failures))
         sys.exit(1)
