@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <utility>
 #include <vector>
 
 #include "ClpEventHandler.hpp"
 #include "ClpSimplex.hpp"
+#include "ClpSolve.hpp"
 #include "CoinFinite.hpp"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -23,20 +25,28 @@ double ToClp(double bound) {
 
 // Ends CLP's simplex (status 5, "stopped by event handler") once the stop check holds, asked every
 // kIterationsBetweenChecks iterations: CLP calls the handler after every iteration, and a clock
-// read costs more than a pivot of the small LPs.
+// read costs more than a pivot of the small LPs. Presolve solves a clone of the model with a clone
+// of the handler and may go on in the original after postsolve: the clones share the verdict, so
+// that a check that held once stops them all at once without being asked again.
 class StopCheckHandler final : public ClpEventHandler {
  public:
-  explicit StopCheckHandler(LpStopCheck should_stop) : should_stop_(std::move(should_stop)) {}
+  // `held` is the verdict the clones share; its owner clears it before each solve.
+  StopCheckHandler(LpStopCheck should_stop, std::shared_ptr<bool> held)
+      : should_stop_(std::move(should_stop)), held_(std::move(held)) {}
 
   int event(Event which) override {
-    if (which != endOfIteration || ++iterations_ % kIterationsBetweenChecks != 0) return -1;
-    return should_stop_ && should_stop_() ? 0 : -1;
+    if (which != endOfIteration) return -1;
+    if (*held_) return 0;
+    if (++iterations_ % kIterationsBetweenChecks != 0) return -1;
+    *held_ = should_stop_ && should_stop_();
+    return *held_ ? 0 : -1;
   }
   ClpEventHandler* clone() const override { return new StopCheckHandler(*this); }
 
  private:
   static constexpr int64_t kIterationsBetweenChecks = 16;
   LpStopCheck should_stop_;
+  std::shared_ptr<bool> held_;  // one per SetStopCheck, shared by the clones CLP makes
   int64_t iterations_ = 0;
 };
 
@@ -89,6 +99,7 @@ class ClpSheetLp final : public SheetLp {
   bool wants_column_cap() const override { return true; }
 
   absl::StatusOr<LpOutcome> Solve() override {
+    *stop_held_ = false;  // a stopped solve's verdict must not stop this one
     int flags = 0;
     if (options_.keep_factorization) {
       flags = 1;
@@ -115,7 +126,7 @@ class ClpSheetLp final : public SheetLp {
 
   void SetStopCheck(LpStopCheck should_stop) override {
     // The model keeps a clone.
-    const StopCheckHandler handler(std::move(should_stop));
+    const StopCheckHandler handler(std::move(should_stop), stop_held_);
     model_.passInEventHandler(&handler);
   }
 
@@ -137,7 +148,13 @@ class ClpSheetLp final : public SheetLp {
 
  private:
   void RunSimplex(int flags) {
-    if (options_.algorithm == ClpAlgorithm::kPrimal) {
+    if (options_.presolve_first_solve && !solved_once_) {
+      ClpSolve solve;
+      solve.setPresolveType(ClpSolve::presolveOn);
+      solve.setSolveType(options_.algorithm == ClpAlgorithm::kPrimal ? ClpSolve::usePrimal
+                                                                     : ClpSolve::useDual);
+      model_.initialSolve(solve);
+    } else if (options_.algorithm == ClpAlgorithm::kPrimal) {
       model_.primal(0, flags);
     } else {
       model_.dual(0, flags);
@@ -150,6 +167,7 @@ class ClpSheetLp final : public SheetLp {
   bool solved_once_ = false;
   bool fresh_factorization_needed_ = true;
   int64_t pivots_ = 0;
+  std::shared_ptr<bool> stop_held_ = std::make_shared<bool>(false);  // see StopCheckHandler
 };
 
 }  // namespace
