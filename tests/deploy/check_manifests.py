@@ -283,9 +283,40 @@ def database_connection_problems(by_kind, spec, args):
     arguments = " ".join(container.get("args", []))
     match = re.search(r"max_connections=(\d+)", arguments)
     have = int(match.group(1)) if match else 100
+    found = []
     if have < needed:
-        return [f"ispq-postgres: max_connections {have} < {needed} for {most} + {surge} replicas"]
-    return []
+        found.append(f"ispq-postgres: max_connections {have} < {needed} for {most} + {surge} "
+                     "replicas")
+    return found + database_network_policy_problems(by_kind, database[0], spec)
+
+
+def database_network_policy_problems(by_kind, database, spec):
+    """A NetworkPolicy on the in-cluster database lets in the replicas, on its port alone."""
+    labels = database["spec"]["selector"]["matchLabels"]
+    policies = [p for p in by_kind.get("NetworkPolicy", [])
+                if p["spec"].get("podSelector", {}).get("matchLabels") == labels]
+    if not policies:
+        return ["a NetworkPolicy on ispq-postgres (only the replicas connect)"]
+    container = database["spec"]["template"]["spec"]["containers"][0]
+    ports = {p["containerPort"] for p in container.get("ports", [])}
+    found = []
+    for policy in policies:
+        name = policy["metadata"]["name"]
+        if "Ingress" not in policy["spec"].get("policyTypes", []):
+            found.append(f"NetworkPolicy {name}: policyTypes Ingress")
+        for rule in policy["spec"].get("ingress", []):
+            sources = rule.get("from", [])
+            if not sources or any(s != {"podSelector": {"matchLabels":
+                                                         spec["selector"]["matchLabels"]}}
+                                  for s in sources):
+                found.append(f"NetworkPolicy {name}: a rule lets in more than the replicas")
+            allowed = {next((p["containerPort"] for p in container.get("ports", [])
+                             if port.get("port") in (p.get("name"), p.get("containerPort"))),
+                            port.get("port")) for port in rule.get("ports", [])}
+            if allowed != ports:
+                found.append(f"NetworkPolicy {name}: lets in ports {sorted(map(str, allowed))}, "
+                             f"not the database's {sorted(map(str, ports))}")
+    return found
 
 
 def network_policy_problems(by_kind, spec, container, http_port):
@@ -477,7 +508,7 @@ BREAKERS = {
                           [0].__setitem__("port", str(_one(d, "Service", "ispq-server")["spec"]
                                                      ["ports"][0]["port"])),
                           "Service ispq-server: $.spec.ports[0].port: "),
-    "network policy unknown field": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy")["spec"]
+    "network policy unknown field": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy", "ispq-server")["spec"]
                                      ["ingress"][0]["ports"][0].__setitem__("protocl", "TCP"),
                                      "NetworkPolicy ispq-server: $.spec.ingress[0].ports[0]"
                                      ".protocl: unknown field"),
@@ -514,11 +545,23 @@ BREAKERS = {
     "service http port": ("Service", lambda d: _one(d, "Service", "ispq-server")["spec"]
                           .__setitem__("ports", _one(d, "Service", "ispq-server")["spec"]
                                        ["ports"][:1])),
-    "network policy ports": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy")["spec"]
+    "network policy ports": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy", "ispq-server")["spec"]
                              ["ingress"].append({"from": [{"podSelector": {}}]})),
-    "network policy port": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy")["spec"]
+    "network policy port": ("NetworkPolicy", lambda d: _one(d, "NetworkPolicy", "ispq-server")["spec"]
                             ["ingress"][0]["ports"].append({"port": 5432})),
-    "no network policy": ("NetworkPolicy", lambda d: d.remove(_one(d, "NetworkPolicy"))),
+    "no network policy": ("NetworkPolicy",
+                          lambda d: d.remove(_one(d, "NetworkPolicy", "ispq-server"))),
+    # The in-cluster database's NetworkPolicy: only the replicas, only its port.
+    "database policy": ("StatefulSet", lambda d: d.remove(_one(d, "NetworkPolicy",
+                                                               "ispq-postgres")),
+                        "a NetworkPolicy on ispq-postgres"),
+    "database policy source": ("StatefulSet", lambda d: _one(d, "NetworkPolicy", "ispq-postgres")
+                               ["spec"]["ingress"][0]["from"].append({"podSelector": {}}),
+                               "NetworkPolicy ispq-postgres: a rule lets in more than the "
+                               "replicas"),
+    "database policy port": ("StatefulSet", lambda d: _one(d, "NetworkPolicy", "ispq-postgres")
+                             ["spec"]["ingress"][0]["ports"].append({"port": 8443}),
+                             "NetworkPolicy ispq-postgres: lets in ports"),
     "scrape annotation": ("Deployment", lambda d: _one(d, "Deployment")["spec"]["template"]
                           ["metadata"]["annotations"].__setitem__("prometheus.io/port", "50051")),
     "service monitor port": ("ServiceMonitor", lambda d: _one(d, "ServiceMonitor")["spec"]
