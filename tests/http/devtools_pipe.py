@@ -5,6 +5,7 @@ it needs neither a websocket library nor a debugging port. Every wait is bounded
 with the test process, however that ends (its own helper processes follow their browser)."""
 import base64
 import fcntl
+import hashlib
 import json
 import os
 import select
@@ -14,6 +15,18 @@ import tempfile
 import time
 
 from child_processes import die_with_parent
+
+
+def trust_certificate_flag(cert_file):
+    """The Chromium flag that trusts this one certificate's key and nothing else:
+    --ignore-certificate-errors-spki-list with base64(SHA-256 of its SubjectPublicKeyInfo)
+    (headless Chromium has no CA store a test may add to without NSS tools)."""
+    public = subprocess.run(["openssl", "x509", "-in", cert_file, "-pubkey", "-noout"],
+                            check=True, capture_output=True, timeout=60).stdout
+    der = subprocess.run(["openssl", "pkey", "-pubin", "-outform", "der"], input=public,
+                         check=True, capture_output=True, timeout=60).stdout
+    return "--ignore-certificate-errors-spki-list=" + base64.b64encode(
+        hashlib.sha256(der).digest()).decode()
 
 
 def _high_fd(fd):

@@ -8,8 +8,6 @@ default; headless Chromium, trusting the server's key, reaches the web view over
 job to its result through the page's event stream and fetches /metrics, and refuses the page
 without that trust; and certificate or key files that cannot be used stop the server at start with
 an error naming the file."""
-import base64
-import hashlib
 import http.client
 import json
 import os
@@ -24,7 +22,7 @@ from prometheus_client.parser import text_string_to_metric_families
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import ispq_http_server as ispq  # noqa: E402
-from devtools_pipe import Browser  # noqa: E402
+from devtools_pipe import Browser, trust_certificate_flag  # noqa: E402
 
 
 def openssl(*args, cwd):
@@ -59,17 +57,6 @@ def https(port, ca_file, method, path, body=None, headers=None, host="localhost"
         return response.status, dict(response.getheaders()), response.read().decode()
     finally:
         connection.close()
-
-
-def spki_sha256(cert_file):
-    """base64(SHA-256 of the certificate's SubjectPublicKeyInfo): what Chromium's
-    --ignore-certificate-errors-spki-list takes to trust this one key (headless Chromium has no
-    CA store a test may add to without NSS tools)."""
-    public = subprocess.run(["openssl", "x509", "-in", cert_file, "-pubkey", "-noout"],
-                            check=True, capture_output=True, timeout=60).stdout
-    der = subprocess.run(["openssl", "pkey", "-pubin", "-outform", "der"], input=public,
-                         check=True, capture_output=True, timeout=60).stdout
-    return base64.b64encode(hashlib.sha256(der).digest()).decode()
 
 
 class HttpsTest(unittest.TestCase):
@@ -139,7 +126,7 @@ class HttpsTest(unittest.TestCase):
                                     headers=ispq.JSON)
             self.assertEqual(status, 200, text)
             job_id = json.loads(text)["name"].split("/")[1]
-            trust = f"--ignore-certificate-errors-spki-list={spki_sha256(self.cert)}"
+            trust = trust_certificate_flag(self.cert)
             with Browser(extra_args=[trust]) as browser:
                 navigated = browser.call("Page.navigate", {"url": url}, session=True)
                 self.assertNotIn("errorText", navigated)
