@@ -79,7 +79,7 @@ struct QuantizeResult {
   // written as its smallest arc: the rows the lower bound is certified for, and what a view
   // highlights as the critical entities the run had to keep apart.
   std::vector<SeparationRow> separation_rows;
-  int64_t hexes = 0;          // only meaningful if valid
+  int64_t hexes = 0;  // only meaningful if valid
   QuantizeStats stats;
 };
 

@@ -25,10 +25,10 @@
 
 #include "absl/status/statusor.h"
 #include "core/exact/milp_solver.h"
-#include "core/run_clock.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"
 #include "core/quantize_result.h"
+#include "core/run_clock.h"
 #include "core/tmesh.h"
 
 namespace ispq {

@@ -76,7 +76,9 @@ std::vector<SeparationRow> QuantizationConstraints::SeparationRowsOverArcs() con
   rows.reserve(separation_index_.size());
   for (const int r : separation_index_) {
     SeparationRow& row = rows.emplace_back();
-    for (const LinearTerm& t : inequalities_[r]) row.terms.push_back({bundles_.arcs(t.var)[0], t.coef});
+    for (const LinearTerm& t : inequalities_[r]) {
+      row.terms.push_back({bundles_.arcs(t.var)[0], t.coef});
+    }
     row.rhs = rhs_[r];
   }
   return rows;
