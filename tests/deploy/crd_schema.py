@@ -31,6 +31,21 @@ def load_crd_schema(path):
     return f"{crd['group']}/{crd['version']}", crd["kind"], crd["openAPIV3Schema"]
 
 
+def type_mismatch(value, schema, path):
+    """The error of `value` against the schema's `type`, or None; a type no validator knows
+    raises, so that a schema is never half checked."""
+    if schema["type"] not in _TYPES:
+        raise ValueError(f"schema at {path}: unknown type {schema['type']}")
+    return None if _TYPES[schema["type"]](value) else \
+        f"{path}: {value!r} is not of type {schema['type']}"
+
+
+def enum_errors(value, schema, path):
+    if "enum" in schema and value not in schema["enum"]:
+        return [f"{path}: {value!r} is not one of {schema['enum']}"]
+    return []
+
+
 def validate(value, schema, path="$"):
     """The list of errors of `value` against `schema`, each naming the offending field by path
     (e.g. `$.spec.triggers[0].type: missing`); empty when it validates."""
@@ -41,13 +56,9 @@ def validate(value, schema, path="$"):
     if schema.get("x-kubernetes-int-or-string"):
         if not (_TYPES["integer"](value) or isinstance(value, str)):
             errors.append(f"{path}: {value!r} is neither an integer nor a string")
-    elif "type" in schema:
-        if schema["type"] not in _TYPES:
-            raise ValueError(f"schema at {path}: unknown type {schema['type']}")
-        if not _TYPES[schema["type"]](value):
-            return errors + [f"{path}: {value!r} is not of type {schema['type']}"]
-    if "enum" in schema and value not in schema["enum"]:
-        errors.append(f"{path}: {value!r} is not one of {schema['enum']}")
+    elif "type" in schema and (mismatch := type_mismatch(value, schema, path)):
+        return errors + [mismatch]
+    errors += enum_errors(value, schema, path)
     if isinstance(value, str):
         if "pattern" in schema and not re.search(schema["pattern"], value):
             errors.append(f"{path}: {value!r} does not match {schema['pattern']}")

@@ -19,7 +19,7 @@ import base64
 import binascii
 import json
 
-from crd_schema import _TYPES
+from crd_schema import _TYPES, enum_errors, type_mismatch
 
 REF = "#/components/schemas/"
 # Keywords that do not constrain a value (extract_core_schemas.py drops most of them).
@@ -78,13 +78,9 @@ class CoreSchemas:
                 choices = " or ".join(o.get("type", json.dumps(o)) for o in schema["oneOf"])
                 errors.append(f"{path}: {value!r} is not exactly one of {choices}"
                               + (f" ({schema['format']})" if "format" in schema else ""))
-        if "type" in schema:
-            if schema["type"] not in _TYPES:
-                raise ValueError(f"schema at {path}: unknown type {schema['type']}")
-            if not _TYPES[schema["type"]](value):
-                return errors + [f"{path}: {value!r} is not of type {schema['type']}"]
-        if "enum" in schema and value not in schema["enum"]:
-            errors.append(f"{path}: {value!r} is not one of {schema['enum']}")
+        if "type" in schema and (mismatch := type_mismatch(value, schema, path)):
+            return errors + [mismatch]
+        errors += enum_errors(value, schema, path)
         errors += self._format(value, schema.get("format"), path)
         if isinstance(value, list):
             for i, item in enumerate(value):
