@@ -99,7 +99,7 @@ std::string EncodeMeshGeometry(const TMesh& mesh, const NodePositions& positions
                              static_cast<int32_t>(cycle_nodes.size())};
   std::string out;
   out.reserve(sizeof(header) + positions.size() * 12 + m * 20 + flags.size() + patches.size() * 9 +
-              cycle_nodes.size() * 4 + 8);
+              cycle_nodes.size() * 4 + bundles.num_bundles() * 4 + 8);
   Append(out, header, 8);
   for (const std::array<float, 3>& p : positions) Append(out, p.data(), 3);
   Append(out, sent.data(), m);
@@ -111,6 +111,10 @@ std::string EncodeMeshGeometry(const TMesh& mesh, const NodePositions& positions
   Append(out, offsets.data(), offsets.size());
   Append(out, cycle_nodes.data(), cycle_nodes.size());
   Append(out, patch_flags.data(), patch_flags.size());
+  for (BundleId b = 0; b < bundles.num_bundles(); ++b) {
+    const int32_t first_arc = bundles.arcs(b)[0];
+    Append(out, &first_arc, 1);
+  }
   return out;
 }
 

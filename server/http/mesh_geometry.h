@@ -25,6 +25,9 @@
 //   int32[P+1]   offsets into the cycle entries: patch i is entries offsets[i] .. offsets[i+1]-1
 //   int32[C]     the nodes around each patch, in the order of its halfpatch 2p's cycle
 //   uint8[P]     patch flags: 4 feature, 8 boundary; padded with zeros to 4
+//   int32[B]     the smallest arc of each bundle, ascending (bundles are numbered by it): how a
+//                view finds the bundle of an arc it was not sent, such as one a result's
+//                separation row names (QuantizationResult.separation_rows)
 #ifndef ISPQ_SERVER_HTTP_MESH_GEOMETRY_H_
 #define ISPQ_SERVER_HTTP_MESH_GEOMETRY_H_
 

@@ -61,6 +61,8 @@ const MeshView = (() => {
     geometry.patchOffsets = take(Int32Array, header[6] + 1);
     geometry.cycleNodes = take(Int32Array, header[7]);
     geometry.patchFlags = take(Uint8Array, header[6]);
+    offset += (4 - header[6] % 4) % 4;
+    geometry.bundleFirstArc = take(Int32Array, header[5]);  // ascending: bundles are numbered by it
     return geometry;
   }
 
@@ -308,8 +310,8 @@ const MeshView = (() => {
       this.schedule();
     }
 
-    // Which rows pass through each drawn segment's bundle. A row's arc is its bundle's smallest;
-    // when a decimated view left that arc out, the bundle is unknown here and stays unmarked.
+    // Which rows pass through each drawn segment's bundle. A row names each bundle by its smallest
+    // arc, found among the bundles' smallest arcs even when a decimated view did not send it.
     markRows() {
       const g = this.geometry;
       if (!g) return;
@@ -318,9 +320,8 @@ const MeshView = (() => {
       const rowsOfBundle = new Map();
       this.rows.forEach((row, r) => {
         for (const arc of row.arcs || []) {
-          const i = this.indexOf(arc);
-          if (i < 0) continue;
-          const b = g.bundle[i];
+          const b = this.bundleNamedBy(arc);
+          if (b < 0) continue;
           if (!rowsOfBundle.has(b)) rowsOfBundle.set(b, []);
           const list = rowsOfBundle.get(b);
           if (list[list.length - 1] !== r) list.push(r);
@@ -328,6 +329,18 @@ const MeshView = (() => {
       });
       this.rowsOfSegment = new Array(g.sent);
       for (let i = 0; i < g.sent; i++) this.rowsOfSegment[i] = rowsOfBundle.get(g.bundle[i]) || null;
+    }
+
+    // The bundle whose smallest arc is `arc`, or -1.
+    bundleNamedBy(arc) {
+      const first = this.geometry.bundleFirstArc;
+      let lo = 0, hi = first.length - 1;
+      while (lo <= hi) {
+        const mid = (lo + hi) >> 1;
+        if (first[mid] === arc) return mid;
+        if (first[mid] < arc) lo = mid + 1; else hi = mid - 1;
+      }
+      return -1;
     }
 
     highlightsRow(i) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "core/arc_bundles.h"
+#include "core/consistency_matrix.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/struct.pb.h"
 #include "google/protobuf/util/json_util.h"
@@ -36,6 +38,7 @@ struct Decoded {
   std::vector<uint8_t> flags;
   std::vector<int32_t> patch_ids, offsets, cycle_nodes;
   std::vector<uint8_t> patch_flags;
+  std::vector<int32_t> bundle_first_arcs;
 };
 
 template <typename T>
@@ -66,7 +69,9 @@ Decoded Decode(const std::string& bytes) {
   d.offsets = Take<int32_t>(bytes, offset, patches + 1);
   d.cycle_nodes = Take<int32_t>(bytes, offset, entries);
   d.patch_flags = Take<uint8_t>(bytes, offset, patches);
-  EXPECT_EQ(bytes.size() - offset, (4 - patches % 4) % 4) << "padded to 4 bytes, then nothing";
+  offset += (4 - patches % 4) % 4;  // padding
+  d.bundle_first_arcs = Take<int32_t>(bytes, offset, d.header[5]);
+  EXPECT_EQ(bytes.size(), offset) << "nothing after the bundles' first arcs";
   EXPECT_EQ(bytes.size() % 4, 0u);
   return d;
 }
@@ -193,6 +198,16 @@ TEST_F(GeometryRouteTest, AboveTheLimitEveryCriticalArcAndEveryKthOtherIsSent) {
     seen_critical += mesh.arc_critical(d.arc_ids[i]) ? 1 : 0;
   }
   EXPECT_EQ(seen_critical, critical) << "every critical arc is drawn";
+  // Every bundle's smallest arc, drawn or not: the bundle of any arc a separation row names.
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  ASSERT_EQ(d.bundle_first_arcs.size(), static_cast<size_t>(bundles.num_bundles()));
+  for (BundleId b = 0; b < bundles.num_bundles(); ++b) {
+    EXPECT_EQ(d.bundle_first_arcs[b], bundles.arcs(b)[0]) << "bundle " << b;
+  }
+  for (size_t i = 0; i < d.arc_ids.size(); ++i) {
+    EXPECT_EQ(d.bundle_first_arcs[d.bundles[i]], bundles.arcs(bundles.bundle_of(d.arc_ids[i]))[0]);
+  }
   int critical_patches = 0;
   for (PatchId p = 0; p < mesh.num_patches(); ++p) critical_patches += mesh.patch_critical(p);
   EXPECT_EQ(d.header[6], critical_patches) << "a decimated mesh sends its critical patches";
