@@ -48,4 +48,11 @@ std::vector<LinearTerm> ArcBundles::ToBundleTerms(std::span<const LinearTerm> ar
   return terms;
 }
 
+std::vector<LinearTerm> ArcBundles::ToArcTerms(std::span<const LinearTerm> bundle_terms) const {
+  std::vector<LinearTerm> terms;
+  terms.reserve(bundle_terms.size());
+  for (const LinearTerm& t : bundle_terms) terms.push_back({arcs_[t.var][0], t.coef});
+  return terms;
+}
+
 }  // namespace ispq

@@ -36,6 +36,8 @@ class ArcBundles {
   // A row over arcs rewritten over bundles (coefficients of a bundle's arcs added up, zero
   // coefficients dropped), sorted by bundle id.
   std::vector<LinearTerm> ToBundleTerms(std::span<const LinearTerm> arc_terms) const;
+  // And back: each bundle written as its smallest arc (how results name a row's bundles).
+  std::vector<LinearTerm> ToArcTerms(std::span<const LinearTerm> bundle_terms) const;
 
  private:
   std::vector<BundleId> bundle_of_arc_;

@@ -75,11 +75,7 @@ std::vector<SeparationRow> QuantizationConstraints::SeparationRowsOverArcs() con
   std::vector<SeparationRow> rows;
   rows.reserve(separation_index_.size());
   for (const int r : separation_index_) {
-    SeparationRow& row = rows.emplace_back();
-    for (const LinearTerm& t : inequalities_[r]) {
-      row.terms.push_back({bundles_.arcs(t.var)[0], t.coef});
-    }
-    row.rhs = rhs_[r];
+    rows.push_back({.terms = bundles_.ToArcTerms(inequalities_[r]), .rhs = rhs_[r]});
   }
   return rows;
 }

@@ -562,11 +562,8 @@ IspOutcome IntegerSheetPump::Finish() {
   outcome.separating = has_valid_;
   outcome.q = quantization_.ArcValues();
   for (int32_t r : rows_.ActiveSeparationRows()) {
-    SeparationRow& row = outcome.separation_rows.emplace_back();
-    for (const LinearTerm& t : rows_.store().terms(r)) {
-      row.terms.push_back({bundles_.arcs(t.var)[0], t.coef});
-    }
-    row.rhs = rows_.store().rhs(r);
+    outcome.separation_rows.push_back(
+        {.terms = bundles_.ToArcTerms(rows_.store().terms(r)), .rhs = rows_.store().rhs(r)});
   }
   stats_.subproblems = subproblems_.count();
   stats_.solve_seconds = clock_.ElapsedSeconds();

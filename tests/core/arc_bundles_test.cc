@@ -40,5 +40,21 @@ TEST(ArcBundlesTest, BundlingMergesTerms) {
   EXPECT_LT(bundles.num_bundles(), prism.num_arcs());
 }
 
+// A row over bundles written back over arcs names each bundle by its smallest arc, and bundling
+// that gives the row again.
+TEST(ArcBundlesTest, BundleTermsWrittenOverArcsNameEachBundleByItsSmallestArc) {
+  const TMesh cube = testing::LoadTMeshOrDie(testing::RealTMeshPath("hex-me/s01c_cube.tmesh.json"));
+  const ConsistencyMatrix consistency(cube);
+  const ArcBundles bundles(cube, consistency);
+  const std::vector<LinearTerm> row = {{0, 1}, {1, -1}, {2, 2}};
+  const std::vector<LinearTerm> over_arcs = bundles.ToArcTerms(row);
+  ASSERT_EQ(over_arcs.size(), row.size());
+  for (size_t i = 0; i < row.size(); ++i) {
+    EXPECT_EQ(over_arcs[i].var, bundles.arcs(row[i].var)[0]);
+    EXPECT_EQ(over_arcs[i].coef, row[i].coef);
+  }
+  EXPECT_EQ(bundles.ToBundleTerms(over_arcs), row);
+}
+
 }  // namespace
 }  // namespace ispq
