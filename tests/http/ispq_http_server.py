@@ -32,6 +32,16 @@ def require_environment():
             raise RuntimeError(f"{name} is not set to an existing path (got {value!r}): run through ctest")
 
 
+def exchange(connection, method, path, body=None, headers=None):
+    """(status, headers, body text) of one request on `connection` (HTTP or HTTPS), closed after."""
+    try:
+        connection.request(method, path, body=body, headers=headers or {})
+        response = connection.getresponse()
+        return response.status, dict(response.getheaders()), response.read().decode()
+    finally:
+        connection.close()
+
+
 class Server:
     """ispq-server on 127.0.0.1:0 for both gRPC and HTTP; stopped with SIGTERM on exit."""
 
@@ -95,13 +105,8 @@ class Server:
 
     def request(self, method, path, body=None, headers=None, timeout=120):
         """(status, headers, body text) of one request on a fresh connection."""
-        connection = http.client.HTTPConnection("127.0.0.1", self.http_port, timeout=timeout)
-        try:
-            connection.request(method, path, body=body, headers=headers or {})
-            response = connection.getresponse()
-            return response.status, dict(response.getheaders()), response.read().decode()
-        finally:
-            connection.close()
+        return exchange(http.client.HTTPConnection("127.0.0.1", self.http_port, timeout=timeout),
+                        method, path, body, headers)
 
     def json(self, method, path, body=None):
         status, _, text = self.request(method, path, body=body, headers=JSON)

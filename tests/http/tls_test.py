@@ -50,13 +50,8 @@ def https(port, ca_file, method, path, body=None, headers=None, host="localhost"
     """(status, headers, body text) of one request over TLS, verifying the server against
     `ca_file` (and its name, `host`)."""
     context = ssl.create_default_context(cafile=ca_file)
-    connection = http.client.HTTPSConnection(host, port, context=context, timeout=120)
-    try:
-        connection.request(method, path, body=body, headers=headers or {})
-        response = connection.getresponse()
-        return response.status, dict(response.getheaders()), response.read().decode()
-    finally:
-        connection.close()
+    return ispq.exchange(http.client.HTTPSConnection(host, port, context=context, timeout=120),
+                         method, path, body, headers)
 
 
 class HttpsTest(unittest.TestCase):

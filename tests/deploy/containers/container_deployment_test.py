@@ -900,22 +900,23 @@ def checks_of_the_pod(deployment, failures):
                         f"{budget and budget.group(0)}")
 
 
-def expect_live(deployment, indices, t0, t1, failures, what):
-    """Liveness never fails long enough (period x failures) for the kubelet to restart them."""
-    liveness = deployment.probes["livenessProbe"]
+def expect_probe_held(deployment, kind, indices, t0, t1, failures, what):
+    """Probe `kind` never fails long enough (period x failures) for the kubelet to act on it."""
+    probe = deployment.probes[kind]
     for i in indices:
-        longest = deployment.prober.longest_failure(i, liveness["path"], t0, t1)
-        if longest >= liveness["period"] * liveness["failures"]:
-            failures.append(f"{what}: replica {i} failed {liveness['path']} for {longest:.1f} s")
+        longest = deployment.prober.longest_failure(i, probe["path"], t0, t1)
+        if longest >= probe["period"] * probe["failures"]:
+            failures.append(f"{what}: replica {i} failed {probe['path']} for {longest:.1f} s")
+
+
+def expect_live(deployment, indices, t0, t1, failures, what):
+    """Liveness never fails long enough for the kubelet to restart them."""
+    expect_probe_held(deployment, "livenessProbe", indices, t0, t1, failures, what)
 
 
 def expect_ready(deployment, indices, t0, t1, failures, what):
     """Readiness never fails long enough to take them out of the Service."""
-    readiness = deployment.probes["readinessProbe"]
-    for i in indices:
-        longest = deployment.prober.longest_failure(i, readiness["path"], t0, t1)
-        if longest >= readiness["period"] * readiness["failures"]:
-            failures.append(f"{what}: replica {i} failed {readiness['path']} for {longest:.1f} s")
+    expect_probe_held(deployment, "readinessProbe", indices, t0, t1, failures, what)
 
 
 def phase_kill(deployment, batch, failures):
