@@ -10,7 +10,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -108,7 +110,9 @@ TEST(ProgressPrinterTest, TheFirstExactLineIsAlwaysPrinted) {
 TEST(ProgressPrinterTest, OnATerminalOneLineIsRedrawnAndFinishEndsIt) {
   const int master = posix_openpt(O_RDWR | O_NOCTTY);
   if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0) {
-    GTEST_SKIP() << "no pseudo-terminal available";
+    // Every supported machine has /dev/ptmx (deploy/install-deps.sh runs on Debian 12): a test
+    // that skipped here would pass in silence under ctest.
+    FAIL() << "no pseudo-terminal available: " << std::strerror(errno);
   }
   FILE* terminal = std::fopen(ptsname(master), "w");
   ASSERT_NE(terminal, nullptr);
