@@ -115,4 +115,11 @@ void BlockNodeSlots::ComputeBlockPositions(BlockId b, std::span<const int64_t> q
   }
 }
 
+bool BlockNodeSlots::PositionsDependOn(BlockId b, std::span<const uint8_t> marked_arcs) const {
+  for (int32_t i = block_first_step_[b]; i < block_first_step_[b + 1]; ++i) {
+    if (marked_arcs[tree_steps_[i].arc] != 0) return true;
+  }
+  return false;
+}
+
 }  // namespace ispq

@@ -44,6 +44,10 @@ class BlockNodeSlots {
   // read the positions of a few blocks.
   void ComputeBlockPositions(BlockId b, std::span<const int64_t> q,
                              std::span<IntVec3> positions) const;
+  // Whether block b's positions read an arc with marked_arcs[arc] != 0. If the marked arcs are
+  // those two q's differ on, b's positions are the same on both q's when this is false (for
+  // searches that remember what an earlier q led to).
+  bool PositionsDependOn(BlockId b, std::span<const uint8_t> marked_arcs) const;
 
  private:
   // One edge of a block's spanning tree: P[slot] = P[parent] + q[arc] * direction.

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "core/block_node_positions.h"
+#include "core/clean_starts.h"
 #include "core/integer_box.h"
 #include "core/invariant.h"
 #include "core/linear_terms.h"
@@ -26,6 +27,7 @@ struct Walk {
   NodeId node;
   SlotId slot;                    // (block used for the last step, node)
   int32_t steps_after_branching;  // halfarcs walked since the walk branched
+  int32_t steps;                  // halfarcs walked since the start
   Rotation rotation;              // M: reference frame -> frame of the slot's block
   DirSet walked;                  // W
   DirSet monotone;                // M
@@ -113,6 +115,7 @@ class SeparationSearch::Impl {
 
   int64_t FindViolations(std::span<const int64_t> q,
                          const std::function<bool(SeparationViolation&)>& sink);
+  int64_t skipped_starts() const { return skipped_starts_; }
 
  private:
   // What depends on q only: the positions of block b's slots and the boxes of the sides it owns
@@ -124,7 +127,7 @@ class SeparationSearch::Impl {
   IntBox StartBox(int config, std::span<const int64_t> q) const;
 
   // One search (core/README.md, section Walks and their order); true and `violation` filled on the
-  // first hit.
+  // first hit, else the search's reach is left in reach_ (core/clean_starts.h).
   bool Search(int config, std::span<const int64_t> q, SeparationViolation& violation);
   void Push(const Walk& walk);
 
@@ -167,6 +170,7 @@ class SeparationSearch::Impl {
   std::vector<QueueEntry>& queue_;
   int hopeful_in_queue_ = 0;           // queued walks that are not hopeless
   int64_t negative_slack_ = 0;         // sum of -q_a over the arcs with q_a < 0
+  int reach_ = 0;                      // the most steps of an expanded walk (and the link's arcs)
   StampedSet &seen_pre_, &seen_post_;  // over nodes
   StampedSet& branch_offs_;            // over halfarcs
   StampedSet& pre_branch_arcs_;        // over arcs
@@ -180,6 +184,10 @@ class SeparationSearch::Impl {
   std::vector<Candidate>& candidates_;
   std::vector<int32_t>& fan_entries_;  // indices for SeparationSearchTables::HalfarcBlockAt
   std::array<std::vector<ArcId>, kNumDirs>& walked_arcs_;  // L[d] while building rows
+
+  // The configurations that came back clean on the last call's q, this search's own.
+  CleanStarts clean_starts_;
+  int64_t skipped_starts_ = 0;
 };
 
 SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearchTables> tables,
@@ -210,7 +218,8 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
       fan_order_(scratch_->fan_order),
       candidates_(scratch_->candidates),
       fan_entries_(scratch_->fan_entries),
-      walked_arcs_(scratch_->walked_arcs) {}
+      walked_arcs_(scratch_->walked_arcs),
+      clean_starts_(mesh, slots_, configs_.size()) {}
 
 void SeparationSearch::Impl::ComputeGeometry(BlockId b) {
   geometry_ready_.Insert(b);
@@ -263,12 +272,24 @@ int64_t SeparationSearch::Impl::FindViolations(
   }
   negative_slack_ = 0;
   for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
+  clean_starts_.StartSearch(q, negative_slack_);
   int64_t found = 0;
   SeparationViolation violation;
   for (int config = 0; config < configs_.size(); ++config) {
-    if (!Search(config, q, violation)) continue;
+    if (clean_starts_.StillClean(config, configs_[config].start_node)) {
+      ++skipped_starts_;
+      continue;
+    }
+    if (!Search(config, q, violation)) {
+      clean_starts_.RecordClean(config, reach_);
+      continue;
+    }
+    clean_starts_.Forget(config);
     ++found;
-    if (!sink(violation)) break;
+    if (!sink(violation)) {
+      clean_starts_.ForgetFrom(config + 1);
+      break;
+    }
   }
   return found;
 }
@@ -276,6 +297,8 @@ int64_t SeparationSearch::Impl::FindViolations(
 bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
                                     SeparationViolation& violation) {
   box_ = StartBox(config, q);
+  const SeparationStartConfiguration& c = configs_[config];
+  reach_ = c.is_link ? static_cast<int>(mesh_.entity_halfarcs(c.entity).size()) : 0;
   // A collapsed link (negative length, only while simple rows are violated) has an inverted
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
@@ -298,6 +321,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   start.node = configs_[config].start_node;
   start.slot = tables_->config_start_slot(config);
   start.steps_after_branching = 0;
+  start.steps = 0;
   start.rotation = Rotation();  // the identity: the start block's frame is the reference frame
   start.walked = 0;
   start.monotone = kAllDirBits & static_cast<DirSet>(~link_axis_);
@@ -317,6 +341,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
     if (seen.Contains(arena_[index].node)) continue;
     seen.Insert(arena_[index].node);
     const Walk walk = arena_[index];
+    reach_ = std::max(reach_, walk.steps);
 
     // Every patch at the node contains the node, so while the walk's position lies in the start
     // box every patch box touches it and the fan may cross every patch.
@@ -506,6 +531,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         next.monotone &= dir_bit;
       }
       if (next.branched) ++next.steps_after_branching;
+      ++next.steps;
       next.offset = AddAlong(walk.offset, dir, q[arc]);
       next.walked |= dir_bit;
       next.monotone &= static_cast<DirSet>(~DirBit(Opposite(dir)));
@@ -615,5 +641,7 @@ int64_t SeparationSearch::FindViolations(std::span<const int64_t> q,
                                          const std::function<bool(SeparationViolation&)>& sink) {
   return impl_->FindViolations(q, sink);
 }
+
+int64_t SeparationSearch::skipped_starts() const { return impl_->skipped_starts(); }
 
 }  // namespace ispq

@@ -80,6 +80,11 @@ class SeparationSearch {
   int64_t FindViolations(std::span<const int64_t> q,
                          const std::function<bool(SeparationViolation&)>& sink);
 
+  // How many start configurations the calls so far did not run again because they came back
+  // clean on an earlier call's q and nothing they read has changed since (core/clean_starts.h):
+  // the violations reported are the same as a new instance's on the same q.
+  int64_t skipped_starts() const;
+
  private:
   class Impl;
   std::unique_ptr<Impl> impl_;

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <random>
@@ -320,6 +321,53 @@ TEST(SeparationSearchTest, ReusedSearchAnswersAsAFreshOneInAnyOrder) {
     }
   }
   EXPECT_GT(compared, 0u);
+}
+
+// A search skips the start configurations that came back clean on its last q and read nothing
+// that changed since (core/clean_starts.h). Along sequences of q that change one free arc at a
+// time (a sheet moving, as between ISP's searches), with some calls stopped after their first
+// violation as ISP's rounds stop, every call answers as a fresh search on its q, and starts are
+// skipped.
+TEST(SeparationSearchTest, RememberedCleanStartsChangeNoAnswer) {
+  const std::vector<std::string> files = RealTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  size_t compared = 0;
+  int64_t skipped = 0;
+  for (size_t i = 0; i < files.size(); i += 2) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    std::vector<int64_t> free_values;
+    for (ArcId a : quantizations.free_arcs()) {
+      free_values.push_back(std::llround(4.0 * mesh.arc_length(a)));
+    }
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      SeparationSearch remembering(mesh, {.block_box = mode});
+      std::mt19937 random(static_cast<unsigned>(i) + 1);
+      std::vector<int64_t> values = free_values;
+      for (int step = 0; step < 12; ++step) {
+        SCOPED_TRACE(step);
+        if (step > 0) values[random() % values.size()] = static_cast<int64_t>(random() % 3);
+        const std::vector<int64_t> q = quantizations.Extend(values);
+        const std::vector<SeparationViolation> fresh =
+            SeparationSearch(mesh, {.block_box = mode}).FindViolations(q);
+        compared += fresh.size();
+        if (step % 3 == 1) {
+          std::vector<SeparationViolation> first;
+          remembering.FindViolations(q, [&](SeparationViolation& v) {
+            first.push_back(v);
+            return false;
+          });
+          EXPECT_TRUE(SameViolations(
+              first, {fresh.begin(), fresh.begin() + std::min<size_t>(1, fresh.size())}));
+        }
+        EXPECT_TRUE(SameViolations(remembering.FindViolations(q), fresh));
+      }
+      skipped += remembering.skipped_starts();
+    }
+  }
+  EXPECT_GT(compared, 0u);
+  EXPECT_GT(skipped, 0);
 }
 
 }  // namespace

@@ -1,0 +1,80 @@
+// SPDX-License-Identifier: Apache-2.0
+// The start configurations of a separation search that came back clean on the search's last q,
+// and which of them need not run again on the next one (core/README.md, section Searches that
+// remember clean starts).
+//
+// A search from one start configuration is a deterministic function of the q it reads, and it
+// reads q only at the nodes it expands: the lengths of the arcs leaving such a node, and the
+// positions of the blocks around it, which depend on the arcs of each block's spanning tree
+// (core/block_node_positions.h). Link starts also read their link's arcs. Every node a search
+// expands lies within as many arc hops of its start node as the walk took to reach it, and a
+// link's arcs within the link's length: that bound is the search's reach. So when q changes, a
+// node is dirty if it ends a changed arc or lies on a block whose positions read one, and a
+// configuration that was clean before is still clean if no dirty node lies within its reach of its
+// start node: one breadth-first search from the dirty nodes, up to the largest reach remembered,
+// answers that for every configuration at once. The search's global input (the sum of negative
+// lengths, which bounds how far a walk may get ahead) is compared whole.
+//
+// Late in a run a whole search is two of them over the final q (the paper's sorted boxes and the
+// reference's), 10 s each on a 300k-arc part at level 100, while the thorough pass or separating
+// update before it moved a few sheets: the configurations far from those sheets are not run again.
+#ifndef ISPQ_CORE_CLEAN_STARTS_H_
+#define ISPQ_CORE_CLEAN_STARTS_H_
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/block_node_positions.h"
+#include "core/tmesh.h"
+
+namespace ispq {
+
+class CleanStarts {
+ public:
+  // A configuration whose reach is above this is not remembered (its reach would not fit a byte;
+  // such walks are rare and long, so the breadth-first search would cost what they save).
+  static constexpr int kMaxReach = 254;
+
+  // The mesh and slots must outlive this object.
+  CleanStarts(const TMesh& mesh, const BlockNodeSlots& slots, int num_configs);
+
+  // The next search runs on q with the given sum of negative lengths: afterwards StillClean
+  // answers for q. A configuration the search runs must then be recorded (Record or Forget), and
+  // every one it does not reach forgotten (ForgetFrom), before the next call.
+  void StartSearch(std::span<const int64_t> q, int64_t negative_slack);
+
+  // Whether configuration `config` (starting at `start_node`) came back clean on an earlier q and
+  // nothing it read changed since: its search on the current q would come back clean too.
+  bool StillClean(int config, NodeId start_node) const {
+    return reach_[config] != kUnknown && distance_[start_node] > reach_[config];
+  }
+  // The configuration came back clean on the current q after expanding nodes within `reach`
+  // arc hops of its start node (links: at least the link's length in arcs).
+  void RecordClean(int config, int reach);
+  void Forget(int config) { reach_[config] = kUnknown; }
+  // Forgets configurations `first` and above: the search stopped before them.
+  void ForgetFrom(int first);
+
+ private:
+  static constexpr uint8_t kUnknown = 255;
+  static constexpr uint8_t kFar = 255;
+
+  // Marks changed arcs and returns whether any changed.
+  bool MarkChangedArcs(std::span<const int64_t> q);
+  // distance_[n] = arc hops from n to the nearest dirty node, kFar beyond the largest reach.
+  void MeasureDistances();
+
+  const TMesh& mesh_;
+  const BlockNodeSlots& slots_;
+  std::vector<uint8_t> reach_;  // per configuration: kUnknown, or the reach of its clean search
+  std::vector<int64_t> last_q_;
+  int64_t last_negative_slack_ = 0;
+  std::vector<uint8_t> arc_changed_;  // per arc, between last_q_ and the new q
+  std::vector<uint8_t> distance_;     // per node
+  std::vector<NodeId> frontier_, next_frontier_;
+};
+
+}  // namespace ispq
+
+#endif  // ISPQ_CORE_CLEAN_STARTS_H_
