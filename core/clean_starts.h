@@ -15,9 +15,9 @@
 // answers that for every configuration at once. The search's global input (the sum of negative
 // lengths, which bounds how far a walk may get ahead) is compared whole.
 //
-// Late in a run a whole search is two of them over the final q (the paper's sorted boxes and the
-// reference's), 10 s each on a 300k-arc part at level 100, while the thorough pass or separating
-// update before it moved a few sheets: the configurations far from those sheets are not run again.
+// What it saves depends on what moved between two calls: after a separating update most of a
+// large part is unchanged (a 300k-arc part at level 100: 261k of 800k starts skipped, that search
+// 11.8 -> 8.1 s), after a bulk descent, which moves bundles all over the part, almost nothing is.
 #ifndef ISPQ_CORE_CLEAN_STARTS_H_
 #define ISPQ_CORE_CLEAN_STARTS_H_
 
