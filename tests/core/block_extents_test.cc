@@ -18,28 +18,13 @@ using ::ispq::testing::GridTMesh;
 using ::ispq::testing::GridTMeshSpec;
 using ::ispq::testing::TMeshOrDie;
 
-// q of every arc from integer lengths of the grid intervals, per axis.
-std::vector<int64_t> GridQ(const GridTMesh& grid, int num_arcs,
-                           const std::array<std::vector<int64_t>, 3>& intervals) {
-  std::vector<int64_t> q;
-  for (ArcId a = 0; a < num_arcs; ++a) {
-    const auto& [from, to] = grid.arc_ends(a);
-    int64_t sum = 0;
-    for (int k = 0; k < 3; ++k) {
-      for (int i = from[k]; i < to[k]; ++i) sum += intervals[k][i];
-    }
-    q.push_back(sum);
-  }
-  return q;
-}
-
 TEST(BlockExtentsTest, HexCount) {
   GridTMeshSpec two;
   two.blocks = {{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};
   const absl::StatusOr<GridTMesh> grid = BuildGridTMesh(two);
   ASSERT_TRUE(grid.ok()) << grid.status();
   const TMesh mesh = TMeshOrDie(grid->proto());
-  const std::vector<int64_t> q = GridQ(*grid, mesh.num_arcs(), {{{2, 3}, {4}, {5}}});
+  const std::vector<int64_t> q = grid->QFromIntervals({{{2, 3}, {4}, {5}}});
   EXPECT_EQ(HexCount(mesh, q), std::optional<int64_t>(2 * 4 * 5 + 3 * 4 * 5));
   for (BlockId b = 0; b < 2; ++b) {
     EXPECT_EQ(BlockExtent(mesh, b, 0, q), b == 0 ? 2 : 3);
@@ -52,9 +37,9 @@ TEST(BlockExtentsTest, HexCount) {
   const absl::StatusOr<GridTMesh> cube_grid = BuildGridTMesh(cube);
   ASSERT_TRUE(cube_grid.ok()) << cube_grid.status();
   const TMesh cube_mesh = TMeshOrDie(cube_grid->proto());
-  EXPECT_EQ(HexCount(cube_mesh, GridQ(*cube_grid, 12, {{{1}, {1}, {1}}})),
+  EXPECT_EQ(HexCount(cube_mesh, cube_grid->QFromIntervals({{{1}, {1}, {1}}})),
             std::optional<int64_t>(1));
-  EXPECT_EQ(HexCount(cube_mesh, GridQ(*cube_grid, 12, {{{0}, {1}, {1}}})),
+  EXPECT_EQ(HexCount(cube_mesh, cube_grid->QFromIntervals({{{0}, {1}, {1}}})),
             std::optional<int64_t>(0));
 }
 

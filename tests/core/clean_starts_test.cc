@@ -32,14 +32,9 @@ class CleanStartsTest : public ::testing::Test {
     return *std::move(grid);
   }
 
-  // q with every arc 1 except the u intervals given, [i, i + 1] of length u_lengths[i].
+  // q with every v and w interval 1 and the u intervals given.
   std::vector<int64_t> Q(const std::array<int64_t, kBlocks>& u_lengths) const {
-    std::vector<int64_t> q;
-    for (ArcId a = 0; a < mesh_.num_arcs(); ++a) {
-      const auto& [from, to] = grid_.arc_ends(a);
-      q.push_back(from[0] != to[0] ? u_lengths[from[0]] : 1);
-    }
-    return q;
+    return grid_.QFromIntervals({{{u_lengths.begin(), u_lengths.end()}, {1}, {1}}});
   }
   NodeId Origin() const { return grid_.NodeAt({0, 0, 0}); }
 
@@ -81,14 +76,7 @@ TEST(CleanStartsOnATJunctionTest, NodesOfABlockWhosePositionsChangeAreDirty) {
   const TMesh mesh = TMeshOrDie(grid->proto());
   const BlockNodeSlots slots(mesh);
   const auto q = [&](int64_t first_interval) {
-    std::vector<int64_t> values;
-    for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
-      const auto& [from, to] = grid->arc_ends(a);
-      int64_t length = to[0] - from[0] + to[1] - from[1] + to[2] - from[2];
-      if (from[0] == 0 && to[0] > 0) length += first_interval - 1;
-      values.push_back(length);
-    }
-    return values;
+    return grid->QFromIntervals({{{first_interval, 1}, {1}, {1, 1}}});
   };
   const NodeId corner = grid->NodeAt({2, 0, 1});
   for (HalfarcId h : mesh.outgoing_halfarcs(corner)) {

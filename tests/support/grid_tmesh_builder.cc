@@ -1006,6 +1006,20 @@ int GridTMesh::PatchAt(const GridBox& rect) const {
   return it == patch_index_.end() ? -1 : it->second;
 }
 
+std::vector<int64_t> GridTMesh::QFromIntervals(
+    const std::array<std::vector<int64_t>, 3>& intervals) const {
+  std::vector<int64_t> q;
+  q.reserve(arc_ends_.size());
+  for (const auto& [from, to] : arc_ends_) {
+    int64_t sum = 0;
+    for (int k = 0; k < 3; ++k) {
+      for (int i = from[k]; i < to[k]; ++i) sum += intervals[k][i];
+    }
+    q.push_back(sum);
+  }
+  return q;
+}
+
 absl::StatusOr<GridTMesh> BuildGridTMesh(const GridTMeshSpec& spec) {
   return GridTMeshBuilder(spec).Build();
 }

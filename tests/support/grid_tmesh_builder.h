@@ -18,6 +18,7 @@
 #define ISPQ_TESTS_SUPPORT_GRID_TMESH_BUILDER_H_
 
 #include <array>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
@@ -83,6 +84,10 @@ class GridTMesh {
   std::vector<int> HalfarcChain(const GridPoint& from, const GridPoint& to) const;
   // The patch whose rectangle is exactly `rect`, or -1.
   int PatchAt(const GridBox& rect) const;
+  // q of every arc (by arc id) from an integer length per grid interval: intervals[k][i] is the
+  // length of [i, i + 1] along axis k, and an arc's q is the sum over the intervals it spans, so
+  // the result is consistent by construction.
+  std::vector<int64_t> QFromIntervals(const std::array<std::vector<int64_t>, 3>& intervals) const;
 
  private:
   friend class GridTMeshBuilder;
