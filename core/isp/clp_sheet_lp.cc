@@ -9,7 +9,6 @@
 
 #include "ClpEventHandler.hpp"
 #include "ClpSimplex.hpp"
-#include "ClpSolve.hpp"
 #include "CoinFinite.hpp"
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -25,9 +24,9 @@ double ToClp(double bound) {
 
 // Ends CLP's simplex (status 5, "stopped by event handler") once the stop check holds, asked every
 // kIterationsBetweenChecks iterations: CLP calls the handler after every iteration, and a clock
-// read costs more than a pivot of the small LPs. Presolve solves a clone of the model with a clone
-// of the handler and may go on in the original after postsolve: the clones share the verdict, so
-// that a check that held once stops them all at once without being asked again.
+// read costs more than a pivot of the small LPs. The model runs a clone of the handler
+// (passInEventHandler), and CLP may clone it again: the clones share the verdict, so that a check
+// that held once stops them all without being asked again, and the owner can clear it.
 class StopCheckHandler final : public ClpEventHandler {
  public:
   // `held` is the verdict the clones share; its owner clears it before each solve.
@@ -148,13 +147,7 @@ class ClpSheetLp final : public SheetLp {
 
  private:
   void RunSimplex(int flags) {
-    if (options_.presolve_first_solve && !solved_once_) {
-      ClpSolve solve;
-      solve.setPresolveType(ClpSolve::presolveOn);
-      solve.setSolveType(options_.algorithm == ClpAlgorithm::kPrimal ? ClpSolve::usePrimal
-                                                                     : ClpSolve::useDual);
-      model_.initialSolve(solve);
-    } else if (options_.algorithm == ClpAlgorithm::kPrimal) {
+    if (options_.algorithm == ClpAlgorithm::kPrimal) {
       model_.primal(0, flags);
     } else {
       model_.dual(0, flags);

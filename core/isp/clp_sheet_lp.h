@@ -33,11 +33,6 @@ struct ClpSheetLpOptions {
   // level 5, 122 -> 90 s CPU, the same objective). A fresh model solved once from scratch wants
   // more (DualSimplexSheetLp's fallback: see dual_simplex_sheet_lp.cc).
   int factorization_frequency = 100;
-  // Solve the first time through CLP's presolve (ClpSolve, presolveOn), which removes what the
-  // rows fix or tie together and hands the reduced model to the simplex chosen above; later
-  // solves go on warm from the basis postsolve gives back. For a model made for one solve from
-  // scratch (DualSimplexSheetLp's fallback: see dual_simplex_sheet_lp.cc).
-  bool presolve_first_solve = false;
 };
 
 // A SheetLp with num_columns columns in [0, +inf), objective 0, and no rows.

@@ -200,5 +200,61 @@ TEST(DualSimplexSheetLpTest, SolvesAfterOneByClpAreWarm) {
   }
 }
 
+// Rows that hold on the whole column box are not given to CLP (they can never bind there), and the
+// sparse simplex still has them: it goes on warm from CLP's basis with their logicals basic, and
+// once a widened box lets them bind, they hold.
+TEST(DualSimplexSheetLpTest, RowsThatHoldOnTheColumnBoxStayWithTheSparseSimplex) {
+  constexpr int kColumns = 120;
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> cost(-1, 10);
+  std::uniform_int_distribution<int> column(0, kColumns - 1);
+  LpRowBatch rows;
+  for (int r = 0; r < 90; ++r) {
+    const int a = column(random), b = (a + 1 + column(random) % (kColumns - 1)) % kColumns;
+    if (r % 3 == 0) {
+      rows.Add(std::vector<int32_t>{a, b}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    } else {  // holds for x in [0, 1]^2, binds once b may exceed a by more than 1
+      rows.Add(std::vector<int32_t>{a, b}, std::vector<double>{1, -1}, -1, kLpInfinity);
+    }
+  }
+  std::vector<double> costs(kColumns);
+  double upper = 1;
+  auto load = [&](SheetLp& lp) {
+    for (int c = 0; c < kColumns; ++c) {
+      lp.SetObjectiveCoefficient(c, costs[c]);
+      lp.SetColumnBounds(c, 0, upper);
+    }
+  };
+  auto fresh = [&] {
+    std::unique_ptr<SheetLp> lp = NewClpSheetLp(kColumns);
+    lp->AddRows(rows);
+    load(*lp);
+    return lp;
+  };
+  std::unique_ptr<SheetLp> live =
+      DualSimplexSheetLpFactory({.new_objective_clp_min_columns = 0})(kColumns);
+  live->AddRows(rows);
+  for (double& c : costs) c = cost(random);
+  load(*live);
+  ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh(), costs));
+  ASSERT_EQ(live->counters().fallback_solves, 1) << "a new objective goes to CLP";
+  const int64_t pivots_by_clp = live->counters().pivots;
+  for (int round = 0; round < 5; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    for (int k = 0; k < 3; ++k) costs[random() % kColumns] = cost(random);
+    load(*live);
+    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh(), costs));
+    EXPECT_EQ(live->counters().fallback_solves, 1);
+  }
+  // Warm from CLP's basis: a few cost changes take a few pivots, not another solve from scratch
+  // (with the rows left out nonbasic the basis is singular, and the five rounds took 24 pivots
+  // from the slack basis, as many as CLP's whole solve; warm they take none).
+  EXPECT_LE(4 * (live->counters().pivots - pivots_by_clp), pivots_by_clp);
+  upper = 3;  // now x_b - x_a may reach 3: the rows left out bind
+  load(*live);
+  ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh(), costs));
+  for (int c = 0; c < kColumns; ++c) ASSERT_LE(live->column_values()[c], upper + 1e-9);
+}
+
 }  // namespace
 }  // namespace ispq
