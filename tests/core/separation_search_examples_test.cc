@@ -56,16 +56,7 @@ Example Build(const GridTMeshSpec& spec) {
 
 // q_a = the sum of the interval lengths the arc spans; consistent by construction.
 std::vector<int64_t> GridQ(const Example& example, const IntervalQ& intervals) {
-  std::vector<int64_t> q;
-  for (ArcId a = 0; a < example.mesh.num_arcs(); ++a) {
-    const auto& [from, to] = example.grid.arc_ends(a);
-    int64_t sum = 0;
-    for (int k = 0; k < 3; ++k) {
-      for (int i = from[k]; i < to[k]; ++i) sum += intervals[k][i];
-    }
-    q.push_back(sum);
-  }
-  return q;
+  return example.grid.QFromIntervals(intervals);
 }
 
 // A row in grid terms, sorted: (coefficient, arc's lower end, arc's upper end) per term.
