@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "ClpEventHandler.hpp"
+#include "ClpFactorization.hpp"
 #include "ClpSimplex.hpp"
 #include "CoinFinite.hpp"
 #include "absl/status/status.h"
@@ -66,6 +67,9 @@ class ClpSheetLp final : public SheetLp {
     const std::vector<CoinBigIndex> starts(num_columns + 1, 0);
     model_.loadProblem(num_columns, 0, starts.data(), nullptr, nullptr, lower.data(), upper.data(),
                        objective.data(), nullptr, nullptr);
+    // Keep the factorization's arrays from one refactorization to the next (core/isp/
+    // sparse_dual_simplex.cc, constructor, says why).
+    model_.factorization()->setPersistenceFlag(1);
   }
 
   int num_columns() const override { return model_.numberColumns(); }

@@ -48,7 +48,13 @@ SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOpt
       pending_primal_(std::make_unique<CoinIndexedVector>()),
       pending_cost_(std::make_unique<CoinIndexedVector>()),
       is_nonzero_nonbasic_(num_columns, 0),
-      alpha_(num_columns, 0.0) {}
+      alpha_(num_columns, 0.0) {
+  // 1: a refactorization reuses the arrays of the one before unless it needs bigger ones. By
+  // default CoinFactorization frees and allocates its areas anew every time (4-12 MB each on a
+  // 300k-arc part); glibc then serves them from the heap, where they fragment it: a 300k-arc
+  // part's peak RSS was 10% lower with this (q identical on the shared set, same CPU).
+  factorization_->setPersistenceFlag(1);
+}
 
 SparseDualSimplex::~SparseDualSimplex() = default;
 
