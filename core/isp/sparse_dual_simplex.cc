@@ -52,7 +52,7 @@ SparseDualSimplex::SparseDualSimplex(int num_columns, const SparseDualSimplexOpt
   // 1: a refactorization reuses the arrays of the one before unless it needs bigger ones. By
   // default CoinFactorization frees and allocates its areas anew every time (4-12 MB each on a
   // 300k-arc part); glibc then serves them from the heap, where they fragment it. At 300k arcs
-  // this lowered peak RSS by 3-10% at levels 25 and 100 (0-3% higher at level 5), same CPU; q
+  // this lowered peak RSS by 3-10% at levels 25 and 100 (0-3% higher at level 5), CPU within 3%; q
   // identical on the shared set.
   factorization_->setPersistenceFlag(1);
 }
