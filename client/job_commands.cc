@@ -47,7 +47,7 @@ std::string OutcomeColumn(const v1::Job& job) {
 
 int RunSubmit(const std::string& mesh_path, const v1::QuantizationOptions& quantization,
               const RemoteCommandOptions& options) {
-  QuantizeInputOrExit loaded = LoadQuantizeInput(mesh_path, quantization);
+  QuantizeInputOrExit loaded = LoadQuantizeInput(mesh_path, quantization, MeshUse::kSendToServer);
   if (!loaded.input.has_value()) return loaded.exit_code;
   v1::QuantizeRequest& request = MakeQuantizeRequest(*loaded.input, quantization);
   absl::StatusOr<client::QuantizerClient> client = Connect(options);

@@ -6,6 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "core/proto/tmesh_file.h"
 #include "core/proto/tmesh_from_proto.h"
+#include "core/proto/tmesh_model_file.h"
 
 namespace ispq::cli {
 
@@ -18,5 +19,7 @@ absl::StatusOr<MeshFile> LoadMeshFile(const std::string& path) {
   }
   return MeshFile{*std::move(proto), *std::move(mesh)};
 }
+
+absl::StatusOr<TMesh> LoadMeshModel(const std::string& path) { return ReadTMeshModelFile(path); }
 
 }  // namespace ispq::cli

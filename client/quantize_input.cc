@@ -10,10 +10,21 @@
 
 namespace ispq::cli {
 
+namespace {
+
+absl::StatusOr<MeshFile> LoadMesh(const std::string& mesh_path, MeshUse use) {
+  if (use == MeshUse::kSendToServer) return LoadMeshFile(mesh_path);
+  absl::StatusOr<TMesh> mesh = LoadMeshModel(mesh_path);
+  if (!mesh.ok()) return mesh.status();
+  return MeshFile{TMeshMessage(), *std::move(mesh)};
+}
+
+}  // namespace
+
 QuantizeInputOrExit LoadQuantizeInput(const std::string& mesh_path,
-                                      const v1::QuantizationOptions& quantization) {
+                                      const v1::QuantizationOptions& quantization, MeshUse use) {
   QuantizeInputOrExit loaded;
-  absl::StatusOr<MeshFile> file = LoadMeshFile(mesh_path);
+  absl::StatusOr<MeshFile> file = LoadMesh(mesh_path, use);
   if (!file.ok()) {
     std::cerr << "ispq: " << file.status().message() << "\n";
     loaded.exit_code = kExitInvalidInput;

@@ -17,8 +17,11 @@
 
 namespace ispq::cli {
 
+// Where the mesh goes: a server needs the message as read, a local solve the model only.
+enum class MeshUse { kSendToServer, kSolveHere };
+
 struct QuantizeInput {
-  TMeshMessage proto;  // as read, for sending to a server
+  TMeshMessage proto;  // as read for kSendToServer; empty for kSolveHere
   TMesh mesh;          // validated
   QuantizeOptions options;
 };
@@ -29,7 +32,7 @@ struct QuantizeInputOrExit {
 };
 
 QuantizeInputOrExit LoadQuantizeInput(const std::string& mesh_path,
-                                      const v1::QuantizationOptions& quantization);
+                                      const v1::QuantizationOptions& quantization, MeshUse use);
 
 // The request for a server: `input`'s mesh moves into it without a copy (the request is made on
 // the mesh's arena, and lives as long as `input`).

@@ -12,12 +12,12 @@
 namespace ispq::cli {
 
 int RunStatsCommand(const std::string& path, bool json) {
-  absl::StatusOr<MeshFile> file = LoadMeshFile(path);
-  if (!file.ok()) {
-    std::cerr << "ispq: " << file.status().message() << "\n";
+  const absl::StatusOr<TMesh> loaded = LoadMeshModel(path);
+  if (!loaded.ok()) {
+    std::cerr << "ispq: " << loaded.status().message() << "\n";
     return kExitInvalidInput;
   }
-  const TMesh& mesh = file->mesh;
+  const TMesh& mesh = *loaded;
   const MeshStats stats = ComputeMeshStats(mesh);
   if (json) {
     std::cout << MessageToJson(MeshStatsToProto(stats)) << "\n";

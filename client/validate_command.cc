@@ -17,12 +17,12 @@
 namespace ispq::cli {
 
 int RunValidate(const ValidateCommandOptions& options) {
-  absl::StatusOr<MeshFile> file = LoadMeshFile(options.mesh_path);
-  if (!file.ok()) {
-    std::cerr << "ispq: " << file.status().message() << "\n";
+  const absl::StatusOr<TMesh> loaded = LoadMeshModel(options.mesh_path);
+  if (!loaded.ok()) {
+    std::cerr << "ispq: " << loaded.status().message() << "\n";
     return kExitInvalidInput;
   }
-  const TMesh* mesh = &file->mesh;
+  const TMesh* mesh = &*loaded;
   absl::StatusOr<v1::QuantizationResult> result = ReadResultFile(options.result_path);
   if (!result.ok()) {
     std::cerr << "ispq: " << result.status().message() << "\n";

@@ -25,7 +25,9 @@ absl::Status ParseJsonInto(std::string_view json, v1::TMesh* mesh) {
 
 absl::Status ParseBinaryInto(std::string_view bytes, v1::TMesh* mesh) {
   if (!mesh->ParseFromArray(bytes.data(), static_cast<int>(bytes.size()))) {
-    return absl::InvalidArgumentError("not a binary ispq.v1.TMesh message");
+    // Worded as core/proto/tmesh_from_wire.h words it, which reads such files for a local solve.
+    return absl::InvalidArgumentError(
+        "the bytes are not a binary T-mesh (ispq.v1.TMesh): it does not parse");
   }
   return absl::OkStatus();
 }
@@ -47,9 +49,13 @@ absl::StatusOr<v1::TMesh> ParseTMeshBinary(std::string_view bytes) {
 TMeshMessage::TMeshMessage()
     : arena_(std::make_unique<google::protobuf::Arena>()), message_(CreateOnArena<v1::TMesh>()) {}
 
+bool IsBinaryTMeshPath(const std::string& path) {
+  return absl::EndsWith(path, ".pb") || absl::EndsWith(path, ".binpb");
+}
+
 absl::StatusOr<TMeshMessage> ReadTMeshFile(const std::string& path) {
   ISPQ_ASSIGN_OR_RETURN(const std::string contents, ReadFileToString(path, kMaxTMeshFileBytes));
-  const bool binary = absl::EndsWith(path, ".pb") || absl::EndsWith(path, ".binpb");
+  const bool binary = IsBinaryTMeshPath(path);
   TMeshMessage mesh;
   const absl::Status parsed = binary ? ParseBinaryInto(contents, mesh.mutable_message())
                                      : ParseJsonInto(contents, mesh.mutable_message());

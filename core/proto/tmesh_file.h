@@ -45,7 +45,10 @@ class TMeshMessage {
   v1::TMesh* message_;  // owned by arena_
 };
 
-// Binary if the name ends in ".pb" or ".binpb", JSON otherwise.
+// Whether a file of this name is binary protobuf: its name ends in ".pb" or ".binpb".
+bool IsBinaryTMeshPath(const std::string& path);
+
+// Binary or JSON as IsBinaryTMeshPath says.
 absl::StatusOr<TMeshMessage> ReadTMeshFile(const std::string& path);
 
 }  // namespace ispq

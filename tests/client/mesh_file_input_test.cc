@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// LoadMeshFile: a valid file in either format gives the message as read and the validated
-// model; a file that does not parse and a mesh that fails validation are both refused with a
-// message that starts with the file's path (and names the element for the latter).
+// LoadMeshFile and LoadMeshModel: a valid file in either format gives the message as read (the
+// former) and the validated model (both); a file that does not parse and a mesh that fails
+// validation are both refused with a message that starts with the file's path (and names the
+// element for the latter), the same from both.
 #include "client/mesh_file_input.h"
 
 #include <string>
@@ -29,6 +30,10 @@ TEST(MeshFileInputTest, AValidFileGivesTheMessageAndTheModel) {
     EXPECT_EQ(file->proto.get().SerializeAsString(), testing::TwoBlockMesh().SerializeAsString());
     EXPECT_EQ(file->mesh.num_arcs(), testing::TwoBlockMesh().arcs_size());
     EXPECT_EQ(file->mesh.num_blocks(), 2);
+    const absl::StatusOr<TMesh> model = LoadMeshModel(path);
+    ASSERT_TRUE(model.ok()) << model.status();
+    EXPECT_EQ(model->num_arcs(), testing::TwoBlockMesh().arcs_size());
+    EXPECT_EQ(model->num_blocks(), 2);
   }
 }
 
@@ -38,7 +43,9 @@ TEST(MeshFileInputTest, AFileThatDoesNotParseIsNamed) {
   const absl::StatusOr<MeshFile> file = LoadMeshFile(path);
   EXPECT_EQ(file.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(file.status().message()), StartsWith(path + ": "));
+  EXPECT_EQ(LoadMeshModel(path).status(), file.status());
   EXPECT_EQ(LoadMeshFile(folder.Path("missing.json")).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(LoadMeshModel(folder.Path("missing.pb")).status().code(), absl::StatusCode::kNotFound);
 }
 
 TEST(MeshFileInputTest, AMeshThatFailsValidationIsNamedWithItsElement) {
@@ -49,6 +56,7 @@ TEST(MeshFileInputTest, AMeshThatFailsValidationIsNamedWithItsElement) {
   const absl::StatusOr<MeshFile> file = LoadMeshFile(path);
   EXPECT_EQ(file.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_THAT(std::string(file.status().message()), StartsWith(path + ": arc 4: length -2"));
+  EXPECT_EQ(LoadMeshModel(path).status(), file.status());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "core/proto/tmesh_file.h"
 #include "core/proto/tmesh_from_proto.h"
+#include "core/proto/tmesh_model_file.h"
 
 namespace ispq::testing {
 
@@ -62,7 +63,15 @@ TMesh TMeshOrDie(const v1::TMesh& proto) {
   return *std::move(mesh);
 }
 
-// Straight from the arena message: the scaling benchmark loads meshes of 200k arcs this way.
-TMesh LoadTMeshOrDie(const std::string& path) { return TMeshOrDie(ReadTMeshFileOrDie(path).get()); }
+// As `ispq quantize --local` loads it (core/proto/tmesh_model_file.h): the scaling benchmark
+// loads meshes of 10^6 arcs this way.
+TMesh LoadTMeshOrDie(const std::string& path) {
+  absl::StatusOr<TMesh> mesh = ReadTMeshModelFile(path);
+  if (!mesh.ok()) {
+    std::cerr << "cannot load test mesh " << path << ": " << mesh.status() << "\n";
+    std::abort();
+  }
+  return *std::move(mesh);
+}
 
 }  // namespace ispq::testing

@@ -20,10 +20,11 @@
 // alone, without solving (run_scaling.py uses it on the real T-meshes, to set the families beside
 // them).
 //
-// The timed solve runs as `ispq quantize --local` runs it: the mesh is loaded, its messages are
-// freed, and the solve reuses the freed memory the process keeps. Its peak columns are the
-// process's resident memory while it solves (the kernel's peak counter is reset after loading,
-// /proc/self/clear_refs "5"), so they include what the loader left resident. For the solve's own
+// The timed solve runs as `ispq quantize --local` runs it: the model is decoded from the file one
+// element at a time (core/proto/tmesh_model_file.h), and the solve reuses whatever memory the
+// loader freed and the process keeps. Its peak columns are the process's resident memory while it
+// solves (the kernel's peak counter is reset after loading, /proc/self/clear_refs "5"), so they
+// include what the loader left resident. For the solve's own
 // memory, --cold_solve_memory solves a second time after returning all freed memory to the
 // system (malloc_trim): every page that solve touches is its own. Timing that cold solve instead
 // would count a first-touch page fault for every page (about 12 us each on the development VM),

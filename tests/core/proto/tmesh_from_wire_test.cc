@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh_stats.h"
 #include "core/proto/tmesh_from_proto.h"
 #include "gmock/gmock.h"
 #include "google/protobuf/io/zero_copy_stream_impl_lite.h"
 #include "gtest/gtest.h"
+#include "tests/core/proto/same_tmesh.h"
 #include "tests/support/test_data.h"
 
 namespace ispq {
@@ -35,26 +35,6 @@ struct Bytes {
   }
 };
 
-void ExpectSameMesh(const TMesh& a, const TMesh& b) {
-  const MeshStats x = ComputeMeshStats(a), y = ComputeMeshStats(b);
-  EXPECT_EQ(x.nodes, y.nodes);
-  EXPECT_EQ(x.arcs, y.arcs);
-  EXPECT_EQ(x.patches, y.patches);
-  EXPECT_EQ(x.blocks, y.blocks);
-  EXPECT_EQ(x.critical_entities, y.critical_entities);
-  EXPECT_EQ(x.critical_links, y.critical_links);
-  EXPECT_EQ(x.bundles, y.bundles);
-  EXPECT_EQ(x.subproblems, y.subproblems);
-  EXPECT_EQ(a.name(), b.name());
-  ASSERT_EQ(a.num_arcs(), b.num_arcs());
-  for (ArcId e = 0; e < a.num_arcs(); ++e) {
-    ASSERT_EQ(a.arc_from(e), b.arc_from(e)) << "arc " << e;
-    ASSERT_EQ(a.arc_length(e), b.arc_length(e)) << "arc " << e;
-    ASSERT_EQ(a.arc_critical(e), b.arc_critical(e)) << "arc " << e;
-  }
-  ASSERT_EQ(a.levels().size(), b.levels().size());
-}
-
 TEST(TMeshFromWireTest, EveryRealMeshDecodesAsTheWholeMessageDoes) {
   const std::vector<std::string> files = testing::RealTMeshFiles();
   ASSERT_EQ(files.size(), 62u);
@@ -71,7 +51,7 @@ TEST(TMeshFromWireTest, EveryRealMeshDecodesAsTheWholeMessageDoes) {
                       }});
     ASSERT_TRUE(streamed.ok()) << streamed.status();
     EXPECT_EQ(bytes.reads, 2) << "one pass to count, one to decode";
-    ExpectSameMesh(*whole, *streamed);
+    testing::ExpectSameTMesh(*whole, *streamed);
     ASSERT_EQ(positions.size(), static_cast<size_t>(proto.nodes_size()));
     for (int n = 0; n < proto.nodes_size(); ++n) {
       ASSERT_EQ(positions[n], std::vector<double>(proto.nodes(n).position().begin(),
@@ -126,7 +106,7 @@ TEST(TMeshFromWireTest, InterleavedElementListsDecodeAsTheMessage) {
   EXPECT_EQ(nodes_seen, proto.nodes_size()) << "each node seen once, in id order";
   const absl::StatusOr<TMesh> whole = TMeshFromProto(proto);
   ASSERT_TRUE(whole.ok());
-  ExpectSameMesh(*whole, *streamed);
+  testing::ExpectSameTMesh(*whole, *streamed);
 }
 
 // Protobuf's parser takes a field with an element list's number but another wire type for an
@@ -143,7 +123,7 @@ TEST(TMeshFromWireTest, AnElementFieldOfAnotherWireTypeIsIgnoredAsTheParserDoes)
   ASSERT_TRUE(streamed.ok()) << streamed.status();
   const absl::StatusOr<TMesh> whole = TMeshFromProto(parsed);
   ASSERT_TRUE(whole.ok());
-  ExpectSameMesh(*whole, *streamed);
+  testing::ExpectSameTMesh(*whole, *streamed);
 }
 
 TEST(TMeshFromWireTest, BytesThatAreNoTMeshAreRefusedSayingSo) {
