@@ -41,37 +41,31 @@ std::string ShortName(const std::string& path) {
 
 namespace {
 
-TMeshMessage ReadTMeshFileOrDie(const std::string& path) {
-  absl::StatusOr<TMeshMessage> proto = ReadTMeshFile(path);
-  if (!proto.ok()) {
-    std::cerr << "cannot read test input " << path << ": " << proto.status() << "\n";
+// The value, or the test binary aborts with `what`, `name` and the error (test inputs are expected
+// to be valid).
+template <typename T>
+T OrDie(absl::StatusOr<T> value, const char* what, const std::string& name) {
+  if (!value.ok()) {
+    std::cerr << what << " " << name << ": " << value.status() << "\n";
     std::abort();
   }
-  return *std::move(proto);
+  return *std::move(value);
 }
 
 }  // namespace
 
-v1::TMesh LoadProtoOrDie(const std::string& path) { return ReadTMeshFileOrDie(path).get(); }
+v1::TMesh LoadProtoOrDie(const std::string& path) {
+  return OrDie(ReadTMeshFile(path), "cannot read test input", path).get();
+}
 
 TMesh TMeshOrDie(const v1::TMesh& proto) {
-  absl::StatusOr<TMesh> mesh = TMeshFromProto(proto);
-  if (!mesh.ok()) {
-    std::cerr << "invalid test mesh " << proto.name() << ": " << mesh.status() << "\n";
-    std::abort();
-  }
-  return *std::move(mesh);
+  return OrDie(TMeshFromProto(proto), "invalid test mesh", proto.name());
 }
 
 // As `ispq quantize --local` loads it (core/proto/tmesh_model_file.h): the scaling benchmark
 // loads meshes of 10^6 arcs this way.
 TMesh LoadTMeshOrDie(const std::string& path) {
-  absl::StatusOr<TMesh> mesh = ReadTMeshModelFile(path);
-  if (!mesh.ok()) {
-    std::cerr << "cannot load test mesh " << path << ": " << mesh.status() << "\n";
-    std::abort();
-  }
-  return *std::move(mesh);
+  return OrDie(ReadTMeshModelFile(path), "cannot load test mesh", path);
 }
 
 }  // namespace ispq::testing
