@@ -106,15 +106,10 @@ class DualSimplexSheetLp final : public SheetLp {
   // dual simplex back to the slack basis. Most such solves take under m/10 pivots from there; the
   // ones that take more (separating updates: 23k pivots on 49k rows at 200k arcs) CLP solves from
   // scratch in about half the time, and on a large LP CLP gets them at once
-  // (SparseDualSimplexOptions::new_objective_clp_min_columns). A warm solve on a large LP has a
-  // budget too (SparseDualSimplexOptions::warm_pivot_row_budget). 0: the options' limit.
+  // (SparseDualSimplexOptions::new_objective_clp_min_columns). 0: the options' limit.
   int64_t PivotBudget() const {
+    if (!simplex_.most_costs_changed()) return 0;
     const SparseDualSimplexOptions& options = simplex_.options();
-    if (!simplex_.most_costs_changed()) {
-      if (simplex_.num_columns() < options.new_objective_clp_min_columns) return 0;
-      const double per_rows = options.warm_pivot_row_budget / std::max(1, simplex_.num_rows());
-      return std::max<int64_t>({1, options.new_objective_min_pivots, std::llround(per_rows)});
-    }
     const double per_rows = options.new_objective_pivots_per_row * simplex_.num_rows();
     return std::max<int64_t>({1, options.new_objective_min_pivots, std::llround(per_rows)});
   }

@@ -5,9 +5,7 @@
 // A solve the sparse simplex cannot finish (its iteration limit, repeated numerical trouble) is
 // handed to CLP on a copy of the model built for that solve, so every solve still gets an
 // answer. So is a solve after a new objective that needs many pivots from the slack basis, where
-// CLP is faster (SparseDualSimplexOptions::new_objective_min_pivots), and a warm solve on a large
-// LP whose pivots, each touching most rows of a dense basis, pass a budget
-// (SparseDualSimplexOptions::warm_pivot_row_budget).
+// CLP is faster (SparseDualSimplexOptions::new_objective_min_pivots).
 #ifndef ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 #define ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 

@@ -80,15 +80,6 @@ struct SparseDualSimplexOptions {
   // 100k-arc part need 5-20k pivots from the slack basis), and the sheet LP takes CLP's optimal
   // basis back (AdoptBasis). On the 100k-arc benchmark parts 8-20% less CPU, same q; at 30k equal.
   int new_objective_clp_min_columns = 4000;
-  // A warm solve (rows, bounds or a few costs changed since the last optimum) on an LP of at
-  // least new_objective_clp_min_columns columns is handed to CLP too once its pivots times the
-  // LP's rows pass this budget (and at least new_objective_min_pivots). On a whole-part LP a
-  // separating update's pivots touch most rows (dense basis columns: 0.5-2.7 ms a pivot at 504k
-  // rows, a 10^6-arc part), while CLP, given only the rows that can bind, solves the same LP from
-  // scratch in 13-22 s; without a budget such solves took up to 255 s. The budget allows about 9k
-  // pivots at 504k rows; 31k at 147k rows (300k arcs), where no warm solve measured needed more
-  // than 15k and a smaller budget only added CLP solves; 94k at 48k rows (100k arcs).
-  double warm_pivot_row_budget = 4.5e9;
 };
 
 class SparseDualSimplex {

@@ -154,41 +154,6 @@ TEST(DualSimplexSheetLpTest, ANewObjectiveOverItsPivotBudgetGoesToClp) {
   EXPECT_EQ(live->counters().fallback_solves, 2);
 }
 
-// Rows added to a solved LP are a warm solve: on a large LP (here: every LP) it goes to CLP once
-// its pivots times the rows pass the budget, and stays with the sparse simplex within it. Both
-// answer as a fresh CLP model.
-TEST(DualSimplexSheetLpTest, AWarmSolveOverItsBudgetGoesToClp) {
-  for (const bool tight : {false, true}) {
-    SCOPED_TRACE(tight ? "a budget of one pivot" : "the default budget");
-    CoveringLp model(14);
-    SparseDualSimplexOptions options{.new_objective_clp_min_columns = 0};
-    if (tight) options.warm_pivot_row_budget = 1;  // max(1, new_objective_min_pivots) pivots
-    if (tight) options.new_objective_min_pivots = 1;
-    std::unique_ptr<SheetLp> live = NewDualSimplexSheetLp(CoveringLp::kColumns, options);
-    model.Load(*live, true);
-    std::unique_ptr<SheetLp> fresh = model.Fresh();
-    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, model.costs));
-    ASSERT_EQ(live->counters().fallback_solves, 1) << "a new objective goes to CLP";
-    // Covering rows over disjoint pairs of columns at zero: each is violated, and each needs a
-    // pivot of its own, so the warm solve takes at least two.
-    std::vector<int32_t> at_zero;
-    for (int32_t c = 0; c < CoveringLp::kColumns; ++c) {
-      if (live->column_values()[c] == 0) at_zero.push_back(c);
-    }
-    ASSERT_GE(at_zero.size(), 4u);
-    LpRowBatch added;
-    for (size_t k = 0; k + 1 < at_zero.size() && k < 8; k += 2) {
-      added.Add(std::vector<int32_t>{at_zero[k], at_zero[k + 1]}, std::vector<double>{1, 1}, 1,
-                kLpInfinity);
-    }
-    live->AddRows(added);
-    fresh = model.Fresh();
-    fresh->AddRows(added);
-    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*live, *fresh, model.costs));
-    EXPECT_EQ(live->counters().fallback_solves, tight ? 2 : 1);
-  }
-}
-
 // After CLP solved a new objective, the sparse dual simplex goes on from CLP's basis: a few cost
 // changes later it solves warm, without CLP (were the basis not taken back, every later solve
 // would look like a new objective to it and go to CLP too), and answers as a fresh CLP model.
