@@ -6,6 +6,7 @@
 #define ISPQ_CORE_READ_FILE_H_
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 #include "absl/status/statusor.h"
@@ -15,6 +16,10 @@ namespace ispq {
 // The file's bytes. NOT_FOUND if it cannot be opened, INVALID_ARGUMENT if it is larger than
 // max_bytes or cannot be read.
 absl::StatusOr<std::string> ReadFileToString(const std::string& path, size_t max_bytes);
+
+// The INVALID_ARGUMENT ReadFileToString answers for a file of `size` bytes over `max_bytes`, for
+// readers that check the size themselves.
+absl::Status FileTooLargeError(const std::string& path, uint64_t size, size_t max_bytes);
 
 }  // namespace ispq
 

@@ -13,6 +13,7 @@
 #include "core/proto/tmesh_file.h"
 #include "core/proto/tmesh_from_proto.h"
 #include "core/proto/tmesh_from_wire.h"
+#include "core/read_file.h"
 #include "google/protobuf/io/zero_copy_stream_impl.h"
 
 namespace ispq {
@@ -27,10 +28,7 @@ absl::Status CheckFileSize(const std::string& path) {
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(path, error);
   if (error) return absl::NotFoundError(absl::StrCat(path, ": cannot open file"));
-  if (size > kMaxTMeshFileBytes) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        path, ": file has ", size, " bytes, more than the limit of ", kMaxTMeshFileBytes));
-  }
+  if (size > kMaxTMeshFileBytes) return FileTooLargeError(path, size, kMaxTMeshFileBytes);
   return absl::OkStatus();
 }
 

@@ -13,7 +13,6 @@
 #include <vector>
 
 #include "core/proto/tmesh_file.h"
-#include "core/proto/tmesh_from_proto.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
 #include "tests/core/proto/same_tmesh.h"
@@ -52,15 +51,14 @@ TEST(TMeshModelFileTest, EveryRealMeshReadsToTheModelOfItsMessage) {
   for (const std::string& file : files) {
     SCOPED_TRACE(file);
     const v1::TMesh proto = testing::LoadProtoOrDie(file);
-    const absl::StatusOr<TMesh> whole = TMeshFromProto(proto);
-    ASSERT_TRUE(whole.ok()) << whole.status();
+    const TMesh whole = testing::TMeshOrDie(proto);
     const std::string binary = folder.Write("m.tmesh.pb", proto.SerializeAsString());
     const absl::StatusOr<TMesh> from_binary = ReadTMeshModelFile(binary);
     ASSERT_TRUE(from_binary.ok()) << from_binary.status();
-    testing::ExpectSameTMesh(*whole, *from_binary);
+    testing::ExpectSameTMesh(whole, *from_binary);
     const absl::StatusOr<TMesh> from_json = ReadTMeshModelFile(file);
     ASSERT_TRUE(from_json.ok()) << from_json.status();
-    testing::ExpectSameTMesh(*whole, *from_json);
+    testing::ExpectSameTMesh(whole, *from_json);
   }
 }
 
