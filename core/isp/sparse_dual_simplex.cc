@@ -367,8 +367,11 @@ bool SparseDualSimplex::Refactorize() {
     factorization_valid_ = true;
     return true;
   }
-  std::vector<int32_t> basics, rows, columns;
-  std::vector<double> elements;
+  auto& [basics, rows, columns, permutation, elements] = basis_triplets_;
+  basics.clear();
+  rows.clear();
+  columns.clear();
+  elements.clear();
   for (int v = 0; v < num_variables(); ++v) {
     if (status_[v] != VarStatus::kBasic) continue;
     const int k = static_cast<int>(basics.size());
@@ -387,7 +390,7 @@ bool SparseDualSimplex::Refactorize() {
   }
   if (static_cast<int>(basics.size()) != m) return false;
   factorization_->maximumPivots(options_.max_pivots);
-  std::vector<int32_t> permutation(m);
+  permutation.resize(m);
   const int size = static_cast<int>(elements.size());
   // Room for the factors plus what max_pivots updates can add before the next refactorization
   // (a column of U and a row eta of at most m entries each), at most 8000 entries. A fixed 8000

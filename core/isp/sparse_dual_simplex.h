@@ -242,6 +242,14 @@ class SparseDualSimplex {
 
   std::unique_ptr<CoinFactorization> factorization_;
   bool factorization_valid_ = false;
+  // The basis as triplets for CoinFactorization, and the permutation it answers: kept from one
+  // refactorization to the next like the factorization's own arrays, so that each one refills
+  // them instead of allocating (and, at scale, mapping and faulting in) megabytes anew.
+  struct BasisTriplets {
+    std::vector<int32_t> basics, rows, columns, permutation;
+    std::vector<double> elements;
+  };
+  BasisTriplets basis_triplets_;
   // Work vectors for the factorization (row- or position-indexed, m + max_pivots long).
   std::unique_ptr<CoinIndexedVector> work_, column_, row_, pending_primal_, pending_cost_;
   bool has_pending_primal_ = false;
