@@ -30,6 +30,7 @@
 #include "client/server_commands.h"
 #include "client/stats_command.h"
 #include "client/validate_command.h"
+#include "core/large_allocations.h"
 
 ABSL_FLAG(bool, json, false, "print machine-readable JSON instead of text");
 ABSL_FLAG(bool, local, false, "quantize in-process instead of on a server");
@@ -315,6 +316,7 @@ int RunValidate(const std::vector<char*>& args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ispq::MapLargeAllocationsSeparately();
   absl::SetProgramUsageMessage(kUsage);
   std::vector<std::string> storage;
   std::vector<char*> normalized = NormalizeFlagNames(argc, argv, storage);

@@ -29,6 +29,7 @@
 #include "absl/status/statusor.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "core/large_allocations.h"
 #include "core/read_file.h"
 #include "server/auth/principal_tokens.h"
 #include "server/logging/log_value.h"
@@ -238,6 +239,7 @@ absl::Status WritePortFile(const std::string& path, int port) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  ispq::MapLargeAllocationsSeparately();
   absl::SetProgramUsageMessage("ispq-server: the ispq quantization service (gRPC)");
   absl::ParseCommandLine(argc, argv);
 

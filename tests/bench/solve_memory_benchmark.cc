@@ -48,6 +48,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
+#include "core/large_allocations.h"
 #include "core/mesh_stats.h"
 #include "core/proto/mesh_stats_proto.h"
 #include "core/quantizer.h"
@@ -223,6 +224,7 @@ int Run() {
 }  // namespace ispq::bench
 
 int main(int argc, char** argv) {
+  ispq::MapLargeAllocationsSeparately();  // as the product's binaries do
   absl::ParseCommandLine(argc, argv);
   return ispq::bench::Run();
 }

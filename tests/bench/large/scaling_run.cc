@@ -46,10 +46,11 @@
 #include "absl/flags/parse.h"
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
-#include "core/run_clock.h"
+#include "core/large_allocations.h"
 #include "core/mesh_stats.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
+#include "core/run_clock.h"
 #include "core/subproblems.h"
 #include "tests/support/own_memory.h"
 #include "tests/support/test_data.h"
@@ -220,6 +221,7 @@ int Run() {
 }  // namespace ispq::bench
 
 int main(int argc, char** argv) {
+  ispq::MapLargeAllocationsSeparately();  // as the product's binaries do
   absl::ParseCommandLine(argc, argv);
   return ispq::bench::Run();
 }

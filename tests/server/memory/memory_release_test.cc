@@ -12,28 +12,16 @@
 
 #include "gtest/gtest.h"
 #include "tests/support/own_memory.h"
+#include "tests/support/sanitizer_malloc.h"
 
 namespace ispq::server {
 namespace {
-
-// Sanitizers replace malloc: glibc's heap, and what malloc_trim does to it, are not in play.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitizerMalloc = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
-constexpr bool kSanitizerMalloc = true;
-#else
-constexpr bool kSanitizerMalloc = false;
-#endif
-#else
-constexpr bool kSanitizerMalloc = false;
-#endif
 
 constexpr size_t kBlockBytes = 4 << 10;  // far below glibc's mmap threshold: on the heap
 constexpr int kBlocks = 16384;           // 64 MiB
 
 TEST(MemoryReleaseTest, FreedHeapPagesLeaveTheResidentSet) {
-  if (kSanitizerMalloc) GTEST_SKIP() << "malloc is the sanitizer's here";
+  if (testing::kSanitizerMalloc) GTEST_SKIP() << "malloc is the sanitizer's here";
   const size_t heap_before = mallinfo2().uordblks;
   std::vector<char*> blocks;
   blocks.reserve(kBlocks);
