@@ -116,6 +116,7 @@ class SeparationSearch::Impl {
   int64_t FindViolations(std::span<const int64_t> q,
                          const std::function<bool(SeparationViolation&)>& sink);
   int64_t skipped_starts() const { return skipped_starts_; }
+  int64_t settled_at_branch_offs() const { return settled_at_branch_offs_; }
 
  private:
   // What depends on q only: the positions of block b's slots and the boxes of the sides it owns
@@ -125,6 +126,9 @@ class SeparationSearch::Impl {
   }
   void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
+  // Whether every walk from `config` is hopeless from its first step off the start entity, so
+  // that the search cannot report (core/README.md, section Starts settled at their branch-offs).
+  bool AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const;
 
   // One search (core/README.md, section Walks and their order); true and `violation` filled on the
   // first hit, else the search's reach is left in reach_ (core/clean_starts.h).
@@ -188,6 +192,7 @@ class SeparationSearch::Impl {
   // The configurations that came back clean on the last call's q, this search's own.
   CleanStarts clean_starts_;
   int64_t skipped_starts_ = 0;
+  int64_t settled_at_branch_offs_ = 0;
 };
 
 SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearchTables> tables,
@@ -262,6 +267,13 @@ IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) 
   return box;
 }
 
+bool SeparationSearch::Impl::AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const {
+  for (HalfarcId h : configs_.branch_offs(config)) {
+    if (q[ArcOf(h)] <= negative_slack_) return false;
+  }
+  return true;
+}
+
 int64_t SeparationSearch::Impl::FindViolations(
     std::span<const int64_t> q, const std::function<bool(SeparationViolation&)>& sink) {
   ISPQ_RELEASE_INVARIANT(static_cast<int>(q.size()) == mesh_.num_arcs(),
@@ -278,6 +290,18 @@ int64_t SeparationSearch::Impl::FindViolations(
   for (int config = 0; config < configs_.size(); ++config) {
     if (clean_starts_.StillClean(config, configs_[config].start_node)) {
       ++skipped_starts_;
+      continue;
+    }
+    if (options_.settle_at_branch_offs && AheadAtEveryBranchOff(config, q)) {
+      ++settled_at_branch_offs_;
+      // A node start's walk would have expanded its start node alone (reach 0) and read the one
+      // arc checked here. A link start's walk reads further along the link before it ends, so its
+      // reach is unknown; its next call checks the branch-offs again, which is as cheap.
+      if (configs_[config].is_link) {
+        clean_starts_.Forget(config);
+      } else {
+        clean_starts_.RecordClean(config, 0);
+      }
       continue;
     }
     if (!Search(config, q, violation)) {
@@ -643,5 +667,8 @@ int64_t SeparationSearch::FindViolations(std::span<const int64_t> q,
 }
 
 int64_t SeparationSearch::skipped_starts() const { return impl_->skipped_starts(); }
+int64_t SeparationSearch::settled_at_branch_offs() const {
+  return impl_->settled_at_branch_offs();
+}
 
 }  // namespace ispq

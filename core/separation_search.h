@@ -37,6 +37,10 @@ enum class BlockBoxMode : uint8_t { kSorted, kReferenceUnsorted };
 
 struct SeparationSearchOptions {
   BlockBoxMode block_box = BlockBoxMode::kSorted;
+  // Settle without walking the start configurations whose every branch-off arc is longer than
+  // the sum of negative lengths (core/README.md, section Starts settled at their branch-offs): the
+  // answer is the same either way, so only tests and measurements turn it off.
+  bool settle_at_branch_offs = true;
 };
 
 enum class SeparationTargetKind : uint8_t { kNode, kArc, kPatch };
@@ -84,6 +88,9 @@ class SeparationSearch {
   // clean on an earlier call's q and nothing they read has changed since (core/clean_starts.h):
   // the violations reported are the same as a new instance's on the same q.
   int64_t skipped_starts() const;
+  // How many start configurations the calls so far settled as clean from the lengths of their
+  // branch-off arcs alone, without a walk (SeparationSearchOptions::settle_at_branch_offs).
+  int64_t settled_at_branch_offs() const;
 
  private:
   class Impl;

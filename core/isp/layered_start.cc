@@ -24,7 +24,8 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
   for (int r = 0; r < consistency.num_rows(); ++r) {
     if (consistency.RowValue(r, q) != 0) return std::nullopt;
   }
-  // Every arc is at least 1, so the simple rows hold; the search decides separation.
+  // Every arc is at least 1, so the simple rows hold and the search settles every start at its
+  // branch-offs without a walk (core/README.md, section Starts settled at their branch-offs).
   {
     ScopedCpuSeconds timer(&stats.separation_search_seconds);
     if (separation.FindFirstViolations(q, [](SeparationViolation&) { return false; }) > 0) {

@@ -370,5 +370,70 @@ TEST(SeparationSearchTest, RememberedCleanStartsChangeNoAnswer) {
   EXPECT_GT(skipped, 0);
 }
 
+// Settling the starts whose branch-offs are all longer than the negative slack without walking
+// them (core/README.md, section Starts settled at their branch-offs) changes no answer: a reused
+// instance that settles them (so the clean-start memory sees settled starts too) against a fresh
+// one that walks every start, on q with zero, positive and (on dependent arcs) negative lengths.
+TEST(SeparationSearchTest, StartsSettledAtTheirBranchOffsChangeNoAnswer) {
+  const std::vector<std::string> files = RealTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  size_t compared = 0;
+  int64_t settled = 0;
+  for (size_t i = 0; i < files.size(); i += 2) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      SeparationSearch settling(mesh, {.block_box = mode});
+      std::mt19937 random(static_cast<unsigned>(i) + 7);
+      std::vector<int64_t> values(quantizations.free_arcs().size());
+      for (int64_t& x : values) x = static_cast<int64_t>(random() % 3);
+      for (int step = 0; step < 8; ++step) {
+        SCOPED_TRACE(step);
+        if (step > 0) values[random() % values.size()] = static_cast<int64_t>(random() % 3);
+        const std::vector<int64_t> q = quantizations.Extend(values);
+        const std::vector<SeparationViolation> walked =
+            SeparationSearch(mesh, {.block_box = mode, .settle_at_branch_offs = false})
+                .FindViolations(q);
+        compared += walked.size();
+        EXPECT_TRUE(SameViolations(settling.FindViolations(q), walked));
+      }
+      settled += settling.settled_at_branch_offs();
+    }
+  }
+  EXPECT_GT(compared, 0u);
+  EXPECT_GT(settled, 0);
+}
+
+// With every arc >= 1 and so no negative slack, every start is settled at its branch-offs: the
+// walks, run anyway, confirm that none of them reports.
+TEST(SeparationSearchTest, EveryArcAtLeastOneIsSeparating) {
+  const std::vector<std::string> files = RealTMeshFiles();
+  ASSERT_FALSE(files.empty());
+  int checked = 0;
+  for (size_t i = 0; i < files.size(); i += 3) {
+    SCOPED_TRACE(ShortName(files[i]));
+    const TMesh mesh = LoadTMeshOrDie(files[i]);
+    const ConsistentQuantizations quantizations(mesh);
+    std::mt19937 random(static_cast<unsigned>(i) + 3);
+    std::vector<int64_t> values;
+    for (ArcId a : quantizations.free_arcs()) {
+      values.push_back(std::max<int64_t>(1, std::llround(mesh.arc_length(a))) + random() % 2);
+    }
+    const std::vector<int64_t> q = quantizations.Extend(values);
+    if (*std::min_element(q.begin(), q.end()) < 1) continue;  // a dependent arc came out short
+    ++checked;
+    for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+      EXPECT_TRUE(SeparationSearch(mesh, {.block_box = mode, .settle_at_branch_offs = false})
+                      .FindViolations(q)
+                      .empty());
+      SeparationSearch settling(mesh, {.block_box = mode});
+      EXPECT_TRUE(settling.FindViolations(q).empty());
+      EXPECT_GT(settling.settled_at_branch_offs(), 0);
+    }
+  }
+  EXPECT_GT(checked, 5);
+}
+
 }  // namespace
 }  // namespace ispq
