@@ -667,8 +667,6 @@ int64_t SeparationSearch::FindViolations(std::span<const int64_t> q,
 }
 
 int64_t SeparationSearch::skipped_starts() const { return impl_->skipped_starts(); }
-int64_t SeparationSearch::settled_at_branch_offs() const {
-  return impl_->settled_at_branch_offs();
-}
+int64_t SeparationSearch::settled_at_branch_offs() const { return impl_->settled_at_branch_offs(); }
 
 }  // namespace ispq
