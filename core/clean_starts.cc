@@ -10,11 +10,14 @@ namespace ispq {
 CleanStarts::CleanStarts(const TMesh& mesh, const BlockNodeSlots& slots, int num_configs)
     : mesh_(mesh), slots_(slots), reach_(num_configs, kUnknown) {}
 
-void CleanStarts::StartSearch(std::span<const int64_t> q, int64_t negative_slack) {
-  if (last_q_.size() != q.size() || negative_slack != last_negative_slack_) {
+void CleanStarts::StartSearch(std::span<const int64_t> q,
+                              std::span<const int64_t> negative_slacks) {
+  if (last_q_.size() != q.size() ||
+      !std::equal(negative_slacks.begin(), negative_slacks.end(), last_negative_slacks_.begin(),
+                  last_negative_slacks_.end())) {
     std::fill(reach_.begin(), reach_.end(), kUnknown);
     last_q_.assign(q.begin(), q.end());
-    last_negative_slack_ = negative_slack;
+    last_negative_slacks_.assign(negative_slacks.begin(), negative_slacks.end());
     distance_.assign(mesh_.num_nodes(), kFar);
     return;
   }

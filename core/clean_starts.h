@@ -12,8 +12,8 @@
 // node is dirty if it ends a changed arc or lies on a block whose positions read one, and a
 // configuration that was clean before is still clean if no dirty node lies within its reach of its
 // start node: one breadth-first search from the dirty nodes, up to the largest reach remembered,
-// answers that for every configuration at once. The search's global input (the sum of negative
-// lengths, which bounds how far a walk may get ahead) is compared whole.
+// answers that for every configuration at once. The search's global input (the sums of negative
+// lengths, which bound how far a walk may get ahead) is compared whole.
 //
 // What it saves depends on what moved between two calls: after a separating update most of a
 // large part is unchanged (a 300k-arc part at level 100: 261k of 800k starts skipped, that search
@@ -39,10 +39,11 @@ class CleanStarts {
   // The mesh and slots must outlive this object.
   CleanStarts(const TMesh& mesh, const BlockNodeSlots& slots, int num_configs);
 
-  // The next search runs on q with the given sum of negative lengths: afterwards StillClean
-  // answers for q. A configuration the search runs must then be recorded (Record or Forget), and
-  // every one it does not reach forgotten (ForgetFrom), before the next call.
-  void StartSearch(std::span<const int64_t> q, int64_t negative_slack);
+  // The next search runs on q with the given sums of negative lengths (per parallel class, as the
+  // search counts them): afterwards StillClean answers for q. A configuration the search runs must
+  // then be recorded (Record or Forget), and every one it does not reach forgotten (ForgetFrom),
+  // before the next call.
+  void StartSearch(std::span<const int64_t> q, std::span<const int64_t> negative_slacks);
 
   // Whether configuration `config` (starting at `start_node`) came back clean on an earlier q and
   // nothing it read changed since: its search on the current q would come back clean too.
@@ -69,7 +70,7 @@ class CleanStarts {
   const BlockNodeSlots& slots_;
   std::vector<uint8_t> reach_;  // per configuration: kUnknown, or the reach of its clean search
   std::vector<int64_t> last_q_;
-  int64_t last_negative_slack_ = 0;
+  std::vector<int64_t> last_negative_slacks_;
   std::vector<uint8_t> arc_changed_;  // per arc, between last_q_ and the new q
   std::vector<uint8_t> distance_;     // per node
   std::vector<NodeId> frontier_, next_frontier_;

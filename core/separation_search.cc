@@ -126,8 +126,12 @@ class SeparationSearch::Impl {
   }
   void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
+  // Sums the negative lengths per parallel class (or all of them into class 0 without pruning).
+  void MeasureNegativeSlack(std::span<const int64_t> q);
+  // The negative lengths that can bring a walk back along `axis` of config's start block.
+  int64_t SlackAlong(int config, int axis) const;
   // Whether every walk from `config` is hopeless from its first step off the start entity, so
-  // that the search cannot report (core/README.md, section Starts settled at their branch-offs).
+  // that the search cannot report (core/README.md, section Hopeless walks).
   bool AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const;
 
   // One search (core/README.md, section Walks and their order); true and `violation` filled on the
@@ -172,8 +176,12 @@ class SeparationSearch::Impl {
   DirSet link_axis_ = 0;
   std::vector<Walk>& arena_;
   std::vector<QueueEntry>& queue_;
-  int hopeful_in_queue_ = 0;           // queued walks that are not hopeless
-  int64_t negative_slack_ = 0;         // sum of -q_a over the arcs with q_a < 0
+  int hopeful_in_queue_ = 0;    // queued walks that are not hopeless
+  int64_t negative_slack_ = 0;  // sum of -q_a over the arcs with q_a < 0
+  // The same sum per parallel class (core/parallel_classes.h), and per reference axis of the
+  // current search: how far negative arcs could bring a walk back along that axis.
+  std::vector<int64_t> class_slack_;
+  std::array<int64_t, 3> slack_along_{};
   int reach_ = 0;                      // the most steps of an expanded walk (and the link's arcs)
   StampedSet &seen_pre_, &seen_post_;  // over nodes
   StampedSet& branch_offs_;            // over halfarcs
@@ -267,9 +275,29 @@ IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) 
   return box;
 }
 
+void SeparationSearch::Impl::MeasureNegativeSlack(std::span<const int64_t> q) {
+  const ParallelClasses& classes = tables_->parallel_classes();
+  class_slack_.assign(options_.prune_by_parallel_slack ? classes.num_classes() : 1, 0);
+  negative_slack_ = 0;
+  for (ArcId a = 0; a < static_cast<ArcId>(q.size()); ++a) {
+    if (q[a] >= 0) continue;
+    negative_slack_ -= q[a];
+    class_slack_[options_.prune_by_parallel_slack ? classes.of_arc(a) : 0] -= q[a];
+  }
+}
+
+int64_t SeparationSearch::Impl::SlackAlong(int config, int axis) const {
+  if (!options_.prune_by_parallel_slack) return negative_slack_;
+  return class_slack_[tables_->parallel_classes().of_block_axis(configs_[config].start_block,
+                                                                axis)];
+}
+
+// The branch-off's arc has the class of the direction the walk takes through it: every block the
+// walk steps in is reached from the start block through patches (core/parallel_classes.h).
 bool SeparationSearch::Impl::AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const {
+  const ParallelClasses& classes = tables_->parallel_classes();
   for (HalfarcId h : configs_.branch_offs(config)) {
-    if (q[ArcOf(h)] <= negative_slack_) return false;
+    if (q[ArcOf(h)] <= class_slack_[classes.of_arc(ArcOf(h))]) return false;
   }
   return true;
 }
@@ -282,9 +310,8 @@ int64_t SeparationSearch::Impl::FindViolations(
     geometry_q_.assign(q.begin(), q.end());
     geometry_ready_.Clear();
   }
-  negative_slack_ = 0;
-  for (int64_t length : q) negative_slack_ += length < 0 ? -length : 0;
-  clean_starts_.StartSearch(q, negative_slack_);
+  MeasureNegativeSlack(q);
+  clean_starts_.StartSearch(q, class_slack_);
   int64_t found = 0;
   SeparationViolation violation;
   for (int config = 0; config < configs_.size(); ++config) {
@@ -292,7 +319,7 @@ int64_t SeparationSearch::Impl::FindViolations(
       ++skipped_starts_;
       continue;
     }
-    if (options_.settle_at_branch_offs && AheadAtEveryBranchOff(config, q)) {
+    if (options_.prune_by_parallel_slack && AheadAtEveryBranchOff(config, q)) {
       ++settled_at_branch_offs_;
       // A node start's walk would have expanded its start node alone (reach 0) and read the one
       // arc checked here. A link start's walk reads further along the link before it ends, so its
@@ -327,6 +354,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
   link_axis_ = configs_.link_axis(config);
+  for (int axis = 0; axis < 3; ++axis) slack_along_[axis] = SlackAlong(config, axis);
   seen_pre_.Clear();
   seen_post_.Clear();
   branch_offs_.Clear();
@@ -575,7 +603,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
         const int64_t ahead =
             IsNegative(monotone) ? -next.offset[AxisOf(monotone)] : next.offset[AxisOf(monotone)];
-        next.hopeless = ahead > negative_slack_;
+        next.hopeless = ahead > slack_along_[AxisOf(monotone)];
       }
       Push(next);
       break;

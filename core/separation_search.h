@@ -37,10 +37,12 @@ enum class BlockBoxMode : uint8_t { kSorted, kReferenceUnsorted };
 
 struct SeparationSearchOptions {
   BlockBoxMode block_box = BlockBoxMode::kSorted;
-  // Settle without walking the start configurations whose every branch-off arc is longer than
-  // the sum of negative lengths (core/README.md, section Starts settled at their branch-offs): the
-  // answer is the same either way, so only tests and measurements turn it off.
-  bool settle_at_branch_offs = true;
+  // Skip the work that cannot report (core/README.md, section Hopeless walks): a walk is hopeless
+  // by the negative lengths of its direction's parallel class, and a start whose every branch-off
+  // is longer than those is settled without a walk. The answer is the same either way; tests that
+  // compare turn it off, and then every start is walked and a walk is hopeless only by the
+  // negative lengths of the whole mesh.
+  bool prune_by_parallel_slack = true;
 };
 
 enum class SeparationTargetKind : uint8_t { kNode, kArc, kPatch };
@@ -89,7 +91,7 @@ class SeparationSearch {
   // the violations reported are the same as a new instance's on the same q.
   int64_t skipped_starts() const;
   // How many start configurations the calls so far settled as clean from the lengths of their
-  // branch-off arcs alone, without a walk (SeparationSearchOptions::settle_at_branch_offs).
+  // branch-off arcs alone, without a walk (SeparationSearchOptions::prune_by_parallel_slack).
   int64_t settled_at_branch_offs() const;
 
  private:

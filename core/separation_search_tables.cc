@@ -35,6 +35,7 @@ SeparationSearchTables::SeparationSearchTables(const TMesh& mesh)
     : mesh_(mesh),
       slots_(mesh),
       configs_(mesh),
+      parallel_classes_(mesh),
       sorted_outgoing_(mesh.num_nodes(), mesh.num_halfarcs()),
       arc_first_pair_(ArcFirstPair(mesh)),
       halfarc_blocks_(mesh.num_halfarcs(), 2 * static_cast<size_t>(arc_first_pair_.back())),

@@ -18,6 +18,7 @@
 
 #include "core/block_node_positions.h"
 #include "core/on_demand_lists.h"
+#include "core/parallel_classes.h"
 #include "core/separation_start_configurations.h"
 #include "core/tmesh.h"
 #include "core/zeroed_array.h"
@@ -59,6 +60,7 @@ class SeparationSearchTables {
 
   const BlockNodeSlots& slots() const { return slots_; }
   const SeparationStartConfigurations& configs() const { return configs_; }
+  const ParallelClasses& parallel_classes() const { return parallel_classes_; }
   SlotId config_start_slot(int config) const { return config_start_slot_[config]; }
 
   // Outgoing halfarcs of node n, ascending by id.
@@ -131,6 +133,7 @@ class SeparationSearchTables {
   const TMesh& mesh_;
   const BlockNodeSlots slots_;
   const SeparationStartConfigurations configs_;
+  const ParallelClasses parallel_classes_;
   std::vector<SlotId> config_start_slot_;
 
   OnDemandLists<HalfarcId> sorted_outgoing_;      // per node

@@ -25,7 +25,7 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
     if (consistency.RowValue(r, q) != 0) return std::nullopt;
   }
   // Every arc is at least 1, so the simple rows hold and the search settles every start at its
-  // branch-offs without a walk (core/README.md, section Starts settled at their branch-offs).
+  // branch-offs without a walk (core/README.md, section Hopeless walks).
   {
     ScopedCpuSeconds timer(&stats.separation_search_seconds);
     if (separation.FindFirstViolations(q, [](SeparationViolation&) { return false; }) > 0) {

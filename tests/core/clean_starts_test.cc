@@ -19,6 +19,8 @@ using ::ispq::testing::GridTMeshSpec;
 using ::ispq::testing::TMeshOrDie;
 
 constexpr int kBlocks = 6;
+// Sums of negative lengths per parallel class, as the search passes them.
+constexpr std::array<int64_t, 3> kNoSlack = {0, 0, 0};
 
 class CleanStartsTest : public ::testing::Test {
  protected:
@@ -48,18 +50,18 @@ class CleanStartsTest : public ::testing::Test {
 // have.
 TEST_F(CleanStartsTest, ASearchStaysCleanIfNoChangeLiesWithinItsReach) {
   CleanStarts starts(mesh_, slots_, 3);
-  starts.StartSearch(Q({1, 1, 1, 1, 1, 1}), 0);
+  starts.StartSearch(Q({1, 1, 1, 1, 1, 1}), kNoSlack);
   starts.RecordClean(0, 4);
   starts.RecordClean(1, 5);
   starts.RecordClean(2, 0);
-  starts.StartSearch(Q({1, 1, 1, 1, 1, 2}), 0);
+  starts.StartSearch(Q({1, 1, 1, 1, 1, 2}), kNoSlack);
   EXPECT_TRUE(starts.StillClean(0, Origin()));
   EXPECT_FALSE(starts.StillClean(1, Origin()));
   EXPECT_TRUE(starts.StillClean(2, Origin()));
   // Configuration 2 was not run on this q: it keeps its record, against the q before.
   starts.RecordClean(0, 4);
   starts.Forget(1);
-  starts.StartSearch(Q({2, 1, 1, 1, 1, 2}), 0);
+  starts.StartSearch(Q({2, 1, 1, 1, 1, 2}), kNoSlack);
   EXPECT_FALSE(starts.StillClean(0, Origin()));
   EXPECT_FALSE(starts.StillClean(2, Origin())) << "the origin ends a changed arc";
 }
@@ -84,41 +86,44 @@ TEST(CleanStartsOnATJunctionTest, NodesOfABlockWhosePositionsChangeAreDirty) {
     ASSERT_FALSE(from[0] == 0 && to[0] > 0) << "the corner ends no changed arc";
   }
   CleanStarts starts(mesh, slots, 1);
-  starts.StartSearch(q(1), 0);
+  starts.StartSearch(q(1), kNoSlack);
   starts.RecordClean(0, 0);
-  starts.StartSearch(q(1), 0);
+  starts.StartSearch(q(1), kNoSlack);
   EXPECT_TRUE(starts.StillClean(0, corner));
-  starts.StartSearch(q(3), 0);
+  starts.StartSearch(q(3), kNoSlack);
   EXPECT_FALSE(starts.StillClean(0, corner));
 }
 
 TEST_F(CleanStartsTest, TheSameQKeepsEveryRecord) {
   CleanStarts starts(mesh_, slots_, 1);
   const std::vector<int64_t> q = Q({1, 2, 1, 2, 1, 2});
-  starts.StartSearch(q, 0);
+  starts.StartSearch(q, kNoSlack);
   EXPECT_FALSE(starts.StillClean(0, Origin())) << "nothing recorded yet";
   starts.RecordClean(0, CleanStarts::kMaxReach);
-  starts.StartSearch(q, 0);
+  starts.StartSearch(q, kNoSlack);
   EXPECT_TRUE(starts.StillClean(0, Origin()));
 }
 
 TEST_F(CleanStartsTest, ForgetsOnAnotherNegativeSlackAndBeyondTheLargestReach) {
   CleanStarts starts(mesh_, slots_, 3);
   const std::vector<int64_t> q = Q({1, 1, 1, 1, 1, 1});
-  starts.StartSearch(q, 0);
+  starts.StartSearch(q, kNoSlack);
   starts.RecordClean(0, 1);
   starts.RecordClean(1, 1);
   starts.RecordClean(2, CleanStarts::kMaxReach + 1);
-  starts.StartSearch(q, 0);
+  starts.StartSearch(q, kNoSlack);
   EXPECT_TRUE(starts.StillClean(0, Origin()));
   EXPECT_TRUE(starts.StillClean(1, Origin()));
   EXPECT_FALSE(starts.StillClean(2, Origin())) << "a reach above kMaxReach is not remembered";
   starts.ForgetFrom(1);
-  starts.StartSearch(q, 0);
+  starts.StartSearch(q, kNoSlack);
   EXPECT_TRUE(starts.StillClean(0, Origin()));
   EXPECT_FALSE(starts.StillClean(1, Origin()));
-  starts.StartSearch(q, 3);
+  starts.StartSearch(q, std::array<int64_t, 3>{0, 3, 0});
   EXPECT_FALSE(starts.StillClean(0, Origin())) << "walks may get further ahead with more slack";
+  starts.RecordClean(0, 1);
+  starts.StartSearch(q, std::array<int64_t, 3>{3, 0, 0});
+  EXPECT_FALSE(starts.StillClean(0, Origin())) << "the same total in another class";
 }
 
 }  // namespace

@@ -370,21 +370,23 @@ TEST(SeparationSearchTest, RememberedCleanStartsChangeNoAnswer) {
   EXPECT_GT(skipped, 0);
 }
 
-// Settling the starts whose branch-offs are all longer than the negative slack without walking
-// them (core/README.md, section Starts settled at their branch-offs) changes no answer: a reused
-// instance that settles them (so the clean-start memory sees settled starts too) against a fresh
-// one that walks every start, on q with zero, positive and (on dependent arcs) negative lengths.
-TEST(SeparationSearchTest, StartsSettledAtTheirBranchOffsChangeNoAnswer) {
+// Pruning by parallel slack (core/README.md, section Hopeless walks: walks hopeless by the negative
+// lengths of their direction's class, starts settled at their branch-offs without a walk) changes
+// no answer: a reused instance that prunes (so the clean-start memory sees settled starts too)
+// against a fresh one that walks every start and bounds walks by the whole mesh's negative
+// lengths, on q with zero, positive and (on dependent arcs) negative lengths.
+TEST(SeparationSearchTest, PruningByParallelSlackChangesNoAnswer) {
   const std::vector<std::string> files = RealTMeshFiles();
   ASSERT_FALSE(files.empty());
   size_t compared = 0;
   int64_t settled = 0;
+  int negative_q = 0;
   for (size_t i = 0; i < files.size(); i += 2) {
     SCOPED_TRACE(ShortName(files[i]));
     const TMesh mesh = LoadTMeshOrDie(files[i]);
     const ConsistentQuantizations quantizations(mesh);
     for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
-      SeparationSearch settling(mesh, {.block_box = mode});
+      SeparationSearch pruning(mesh, {.block_box = mode});
       std::mt19937 random(static_cast<unsigned>(i) + 7);
       std::vector<int64_t> values(quantizations.free_arcs().size());
       for (int64_t& x : values) x = static_cast<int64_t>(random() % 3);
@@ -393,16 +395,18 @@ TEST(SeparationSearchTest, StartsSettledAtTheirBranchOffsChangeNoAnswer) {
         if (step > 0) values[random() % values.size()] = static_cast<int64_t>(random() % 3);
         const std::vector<int64_t> q = quantizations.Extend(values);
         const std::vector<SeparationViolation> walked =
-            SeparationSearch(mesh, {.block_box = mode, .settle_at_branch_offs = false})
+            SeparationSearch(mesh, {.block_box = mode, .prune_by_parallel_slack = false})
                 .FindViolations(q);
         compared += walked.size();
-        EXPECT_TRUE(SameViolations(settling.FindViolations(q), walked));
+        EXPECT_TRUE(SameViolations(pruning.FindViolations(q), walked));
+        negative_q += *std::min_element(q.begin(), q.end()) < 0 ? 1 : 0;
       }
-      settled += settling.settled_at_branch_offs();
+      settled += pruning.settled_at_branch_offs();
     }
   }
   EXPECT_GT(compared, 0u);
   EXPECT_GT(settled, 0);
+  EXPECT_GT(negative_q, 0) << "some q have negative arcs, so that the slack matters";
 }
 
 // With every arc >= 1 and so no negative slack, every start is settled at its branch-offs: the
@@ -424,7 +428,7 @@ TEST(SeparationSearchTest, EveryArcAtLeastOneIsSeparating) {
     if (*std::min_element(q.begin(), q.end()) < 1) continue;  // a dependent arc came out short
     ++checked;
     for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
-      EXPECT_TRUE(SeparationSearch(mesh, {.block_box = mode, .settle_at_branch_offs = false})
+      EXPECT_TRUE(SeparationSearch(mesh, {.block_box = mode, .prune_by_parallel_slack = false})
                       .FindViolations(q)
                       .empty());
       SeparationSearch settling(mesh, {.block_box = mode});
