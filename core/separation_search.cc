@@ -56,6 +56,14 @@ struct PopsLater {
   }
 };
 
+// A block placed in the reference frame: a point p of the block (in its own frame) lies at
+// origin + to_block^-1 p. Around a singular arc one block can be placed in several charts.
+struct BlockChart {
+  BlockId block;
+  Rotation to_block;
+  IntVec3 origin;
+};
+
 // A candidate halfarc at the current node and its blocks in the fan (a range of fan_entries_).
 struct Candidate {
   HalfarcId halfarc;
@@ -89,6 +97,8 @@ struct SeparationSearchScratch {
   std::vector<Candidate> candidates;
   std::vector<int32_t> fan_entries;
   std::array<std::vector<ArcId>, kNumDirs> walked_arcs;
+  std::vector<BlockChart> charts;
+  std::vector<ArcId> local_negative_arcs;
 };
 
 SeparationSearchScratch::SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh)
@@ -126,10 +136,15 @@ class SeparationSearch::Impl {
   }
   void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
-  // Sums the negative lengths per parallel class (or all of them into class 0 without pruning).
+  // Sums the negative lengths per parallel class (or all of them into class 0 without pruning)
+  // and, for the local slack, lists the blocks around each negative arc.
   void MeasureNegativeSlack(std::span<const int64_t> q);
   // The negative lengths that can bring a walk back along `axis` of config's start block.
   int64_t SlackAlong(int config, int axis) const;
+  // The negative lengths per class on the blocks any fan of a walk from `config` could admit
+  // (core/README.md, section Hopeless walks), into local_class_slack_; the same for every sector
+  // of an entity, so computed once per entity and call.
+  void MeasureLocalSlack(int config, std::span<const int64_t> q);
   // Whether every walk from `config` is hopeless from its first step off the start entity, so
   // that the search cannot report (core/README.md, section Hopeless walks).
   bool AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const;
@@ -182,6 +197,12 @@ class SeparationSearch::Impl {
   // current search: how far negative arcs could bring a walk back along that axis.
   std::vector<int64_t> class_slack_;
   std::array<int64_t, 3> slack_along_{};
+  // (block, negative arc) for every block around a negative arc, sorted; the local class slack
+  // of the entity local_slack_entity_ and whether it left out some negative arc of a class.
+  std::vector<std::pair<BlockId, ArcId>> negative_arc_blocks_;
+  std::vector<int64_t> local_class_slack_;
+  EntityId local_slack_entity_ = kNoId;
+  bool local_slack_below_class_ = false;
   int reach_ = 0;                      // the most steps of an expanded walk (and the link's arcs)
   StampedSet &seen_pre_, &seen_post_;  // over nodes
   StampedSet& branch_offs_;            // over halfarcs
@@ -196,6 +217,8 @@ class SeparationSearch::Impl {
   std::vector<Candidate>& candidates_;
   std::vector<int32_t>& fan_entries_;  // indices for SeparationSearchTables::HalfarcBlockAt
   std::array<std::vector<ArcId>, kNumDirs>& walked_arcs_;  // L[d] while building rows
+  std::vector<BlockChart>& charts_;                        // MeasureLocalSlack's closure
+  std::vector<ArcId>& local_negative_arcs_;
 
   // The configurations that came back clean on the last call's q, this search's own.
   CleanStarts clean_starts_;
@@ -232,6 +255,8 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
       candidates_(scratch_->candidates),
       fan_entries_(scratch_->fan_entries),
       walked_arcs_(scratch_->walked_arcs),
+      charts_(scratch_->charts),
+      local_negative_arcs_(scratch_->local_negative_arcs),
       clean_starts_(mesh, slots_, configs_.size()) {}
 
 void SeparationSearch::Impl::ComputeGeometry(BlockId b) {
@@ -279,11 +304,21 @@ void SeparationSearch::Impl::MeasureNegativeSlack(std::span<const int64_t> q) {
   const ParallelClasses& classes = tables_->parallel_classes();
   class_slack_.assign(options_.prune_by_parallel_slack ? classes.num_classes() : 1, 0);
   negative_slack_ = 0;
+  negative_arc_blocks_.clear();
+  local_slack_entity_ = kNoId;
   for (ArcId a = 0; a < static_cast<ArcId>(q.size()); ++a) {
     if (q[a] >= 0) continue;
     negative_slack_ -= q[a];
-    class_slack_[options_.prune_by_parallel_slack ? classes.of_arc(a) : 0] -= q[a];
+    if (!options_.prune_by_parallel_slack) {
+      class_slack_[0] -= q[a];
+      continue;
+    }
+    class_slack_[classes.of_arc(a)] -= q[a];
+    for (const HalfarcInBlock& entry : tables_->HalfarcBlocks(HalfarcOf(a, false))) {
+      negative_arc_blocks_.push_back({entry.block, a});
+    }
   }
+  std::sort(negative_arc_blocks_.begin(), negative_arc_blocks_.end());
 }
 
 int64_t SeparationSearch::Impl::SlackAlong(int config, int axis) const {
@@ -332,7 +367,12 @@ int64_t SeparationSearch::Impl::FindViolations(
       continue;
     }
     if (!Search(config, q, violation)) {
-      clean_starts_.RecordClean(config, reach_);
+      // A local bound read blocks around the start that the walks need not have reached.
+      if (local_slack_below_class_) {
+        clean_starts_.Forget(config);
+      } else {
+        clean_starts_.RecordClean(config, reach_);
+      }
       continue;
     }
     clean_starts_.Forget(config);
@@ -355,6 +395,16 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   if (IsInverted(box_)) return false;
   link_axis_ = configs_.link_axis(config);
   for (int axis = 0; axis < 3; ++axis) slack_along_[axis] = SlackAlong(config, axis);
+  local_slack_below_class_ = false;
+  if (options_.prune_by_parallel_slack && negative_slack_ > 0) {
+    if (local_slack_entity_ != c.entity) MeasureLocalSlack(config, q);
+    const ParallelClasses& classes = tables_->parallel_classes();
+    for (int axis = 0; axis < 3; ++axis) {
+      const int32_t of = classes.of_block_axis(c.start_block, axis);
+      slack_along_[axis] = local_class_slack_[of];
+      local_slack_below_class_ |= local_class_slack_[of] < class_slack_[of];
+    }
+  }
   seen_pre_.Clear();
   seen_post_.Clear();
   branch_offs_.Clear();
@@ -412,6 +462,67 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
     Expand(index, at_start_box, q);
   }
   return false;
+}
+
+// Every block a walk steps in is admitted by a fan, and a fan reaches a block from the walk's
+// block across patches whose boxes touch the start box (every patch at a node inside it does). So
+// from the start block, placed as the search places it, crossing every owned side whose box
+// touches the start box reaches every (block, chart) a fan can, and a step happens only in those
+// whose sorted corner box touches the start box (the reference's unsorted box admits fewer).
+// Only the negative arcs of those blocks can bring a walk back.
+void SeparationSearch::Impl::MeasureLocalSlack(int config, std::span<const int64_t> q) {
+  constexpr size_t kMaxCharts = 64;  // beyond this, the class bound stands
+  const SeparationStartConfiguration& c = configs_[config];
+  const ParallelClasses& classes = tables_->parallel_classes();
+  local_slack_entity_ = c.entity;
+  local_class_slack_.assign(class_slack_.size(), 0);
+  local_negative_arcs_.clear();
+  charts_.clear();
+  EnsureGeometry(c.start_block);
+  const IntVec3& start = positions_[tables_->config_start_slot(config)];
+  charts_.push_back({c.start_block, Rotation(), {-start[0], -start[1], -start[2]}});
+  for (size_t i = 0; i < charts_.size(); ++i) {
+    if (charts_.size() > kMaxCharts) {
+      local_class_slack_ = class_slack_;
+      return;
+    }
+    const BlockChart chart = charts_[i];
+    const BlockId b = chart.block;
+    const Rotation to_reference = chart.to_block.Inverse();
+    const auto place = [&](const IntVec3& p) { return Add(chart.origin, to_reference.Apply(p)); };
+    const IntBox corners = SpannedBox(place(positions_[slots_.corner_slot(b, kMinCorner)]),
+                                      place(positions_[slots_.corner_slot(b, kMaxCorner)]));
+    if (TouchesStartBox(corners)) {
+      auto it = std::lower_bound(negative_arc_blocks_.begin(), negative_arc_blocks_.end(),
+                                 std::pair<BlockId, ArcId>{b, 0});
+      for (; it != negative_arc_blocks_.end() && it->first == b; ++it) {
+        const ArcId a = it->second;
+        if (std::find(local_negative_arcs_.begin(), local_negative_arcs_.end(), a) !=
+            local_negative_arcs_.end()) {
+          continue;
+        }
+        local_negative_arcs_.push_back(a);
+        local_class_slack_[classes.of_arc(a)] -= q[a];
+      }
+    }
+    for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
+      if (mesh_.halfpatch_block(side) != b) continue;  // another block's side
+      const BlockId across = mesh_.halfpatch_block(side ^ 1);
+      if (across == kNoId) continue;
+      const IntBox& box = side_boxes_[side];
+      if (!TouchesStartBox(SpannedBox(place(box.lo), place(box.hi)))) continue;
+      const SlotId anchor = tables_->SideSlots(side).front();
+      const SlotId anchor_across = slots_.Find(across, slots_.node_of(anchor));
+      EnsureGeometry(across);
+      const Rotation to_across = mesh_.crossing_rotation(side).After(chart.to_block);
+      const IntVec3 origin =
+          Subtract(place(positions_[anchor]), to_across.Inverse().Apply(positions_[anchor_across]));
+      const bool known = std::any_of(charts_.begin(), charts_.end(), [&](const BlockChart& other) {
+        return other.block == across && other.to_block == to_across && other.origin == origin;
+      });
+      if (!known) charts_.push_back({across, to_across, origin});
+    }
+  }
 }
 
 void SeparationSearch::Impl::Push(const Walk& walk) {
