@@ -8,12 +8,17 @@
 namespace ispq {
 
 SeparationCheck::SeparationCheck(const TMesh& mesh, SeparationRule rule)
-    : mesh_(&mesh), rule_(rule) {
+    : mesh_(&mesh), rule_(rule) {}
+
+std::vector<SeparationSearch>& SeparationCheck::Searches() {
+  if (!searches_.empty()) return searches_;
   searches_.reserve(2);
-  searches_.emplace_back(mesh, SeparationSearchOptions{BlockBoxMode::kReferenceUnsorted});
-  if (rule == SeparationRule::kBothSearches) {
-    searches_.emplace_back(mesh, searches_.front(), SeparationSearchOptions{BlockBoxMode::kSorted});
+  searches_.emplace_back(*mesh_, SeparationSearchOptions{BlockBoxMode::kReferenceUnsorted});
+  if (rule_ == SeparationRule::kBothSearches) {
+    searches_.emplace_back(*mesh_, searches_.front(),
+                           SeparationSearchOptions{BlockBoxMode::kSorted});
   }
+  return searches_;
 }
 
 std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(std::span<const int64_t> q) {
@@ -27,7 +32,7 @@ std::vector<SeparationViolation> SeparationCheck::FindFirstViolations(std::span<
 
 int64_t SeparationCheck::FindFirstViolations(
     std::span<const int64_t> q, const std::function<bool(SeparationViolation&)>& sink) {
-  for (SeparationSearch& search : searches_) {
+  for (SeparationSearch& search : Searches()) {
     const int64_t found = search.FindViolations(q, sink);
     if (found > 0) return found;
   }
@@ -40,7 +45,7 @@ int64_t SeparationCheck::FindFirstViolations(
 std::vector<SeparationViolation> SeparationCheck::FindAllViolations(std::span<const int64_t> q) {
   std::vector<SeparationViolation> all;
   if (has_clean_q_ && std::equal(q.begin(), q.end(), clean_q_.begin(), clean_q_.end())) return all;
-  for (SeparationSearch& search : searches_) {
+  for (SeparationSearch& search : Searches()) {
     std::vector<SeparationViolation> violations = search.FindViolations(q);
     all.insert(all.end(), std::make_move_iterator(violations.begin()),
                std::make_move_iterator(violations.end()));

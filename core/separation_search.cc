@@ -513,6 +513,7 @@ void SeparationSearch::Impl::MeasureLocalSlack(int config, std::span<const int64
       if (!TouchesStartBox(SpannedBox(place(box.lo), place(box.hi)))) continue;
       const SlotId anchor = tables_->SideSlots(side).front();
       const SlotId anchor_across = slots_.Find(across, slots_.node_of(anchor));
+      ISPQ_INVARIANT(anchor_across != kNoId, "a patch's nodes lie on both of its blocks");
       EnsureGeometry(across);
       const Rotation to_across = mesh_.crossing_rotation(side).After(chart.to_block);
       const IntVec3 origin =

@@ -596,8 +596,8 @@ absl::StatusOr<IspOutcome> RunIntegerSheetPump(const TMesh& mesh, const Quantize
   BundleQuantization quantization(mesh, bundles, options.scaling);
   std::optional<ValidStart> start;
   if (mesh.num_arcs() >= tuning.layered_start_min_arcs) {
-    start = FindLayeredStart(mesh, consistency, bundles, quantization, options.scaling, separation,
-                             clock, stats, observer);
+    start = FindLayeredStart(mesh, consistency, bundles, quantization, options.scaling, clock,
+                             stats, observer);
     if (start.has_value() && tuning.descend_from_layered_start) {
       quantization.SetValues(start->values);
     }

@@ -9,8 +9,8 @@ namespace ispq {
 std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyMatrix& consistency,
                                            const ArcBundles& bundles,
                                            const BundleQuantization& quantization, double scaling,
-                                           SeparationCheck& separation, const RunClock& clock,
-                                           QuantizeStats& stats, ProgressObserver* observer) {
+                                           const RunClock& clock, QuantizeStats& stats,
+                                           ProgressObserver* observer) {
   std::optional<std::vector<int64_t>> values;
   {
     ScopedCpuSeconds timer(&stats.layers_seconds);
@@ -24,14 +24,9 @@ std::optional<ValidStart> FindLayeredStart(const TMesh& mesh, const ConsistencyM
   for (int r = 0; r < consistency.num_rows(); ++r) {
     if (consistency.RowValue(r, q) != 0) return std::nullopt;
   }
-  // Every arc is at least 1, so the simple rows hold and the search settles every start at its
-  // branch-offs without a walk (core/README.md, section Hopeless walks).
-  {
-    ScopedCpuSeconds timer(&stats.separation_search_seconds);
-    if (separation.FindFirstViolations(q, [](SeparationViolation&) { return false; }) > 0) {
-      return std::nullopt;
-    }
-  }
+  // Every arc is at least 1, so the simple rows hold, and every separation search settles each
+  // start at its branch-offs without a walk (core/README.md, section Hopeless walks): q is
+  // separating without a search.
   const double objective = QuantizationObjective(mesh, q, scaling);
   if (observer != nullptr) {
     ProgressEvent event;

@@ -16,7 +16,6 @@
 #include "core/quantization_validator.h"
 #include "core/quantize_result.h"
 #include "core/run_clock.h"
-#include "core/separation_check.h"
 #include "core/tmesh.h"
 #include "gtest/gtest.h"
 #include "tests/support/grid_tmesh_builder.h"
@@ -51,12 +50,11 @@ Layered Find(const TMesh& mesh, double scaling, ProgressObserver* observer,
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
   const BundleQuantization quantization(mesh, bundles, scaling);
-  SeparationCheck separation(mesh, SeparationRule::kBothSearches);
   const RunClock clock(nullptr, std::numeric_limits<double>::infinity());
   Layered result;
   result.stats = stats;
-  result.start = FindLayeredStart(mesh, consistency, bundles, quantization, scaling, separation,
-                                  clock, result.stats, observer);
+  result.start = FindLayeredStart(mesh, consistency, bundles, quantization, scaling, clock,
+                                  result.stats, observer);
   if (result.start.has_value()) result.q = bundles.ArcValues(result.start->values);
   return result;
 }
