@@ -139,8 +139,9 @@ class SeparationSearch::Impl {
   // Sums the negative lengths per parallel class (or all of them into class 0 without pruning)
   // and, for the local slack, lists the blocks around each negative arc.
   void MeasureNegativeSlack(std::span<const int64_t> q);
-  // The negative lengths that can bring a walk back along `axis` of config's start block.
-  int64_t SlackAlong(int config, int axis) const;
+  // How far negative arcs could bring a walk from `config` back along each axis of its start
+  // block, into slack_along_: the local slack per class with pruning, else the whole mesh's.
+  void BoundWalks(int config, std::span<const int64_t> q);
   // The negative lengths per class on the blocks any fan of a walk from `config` could admit
   // (core/README.md, section Hopeless walks), into local_class_slack_; the same for every sector
   // of an entity, so computed once per entity and call.
@@ -321,10 +322,20 @@ void SeparationSearch::Impl::MeasureNegativeSlack(std::span<const int64_t> q) {
   std::sort(negative_arc_blocks_.begin(), negative_arc_blocks_.end());
 }
 
-int64_t SeparationSearch::Impl::SlackAlong(int config, int axis) const {
-  if (!options_.prune_by_parallel_slack) return negative_slack_;
-  return class_slack_[tables_->parallel_classes().of_block_axis(configs_[config].start_block,
-                                                                axis)];
+void SeparationSearch::Impl::BoundWalks(int config, std::span<const int64_t> q) {
+  local_slack_below_class_ = false;
+  if (!options_.prune_by_parallel_slack) {
+    slack_along_.fill(negative_slack_);
+    return;
+  }
+  const SeparationStartConfiguration& c = configs_[config];
+  if (negative_slack_ > 0 && local_slack_entity_ != c.entity) MeasureLocalSlack(config, q);
+  const ParallelClasses& classes = tables_->parallel_classes();
+  for (int axis = 0; axis < 3; ++axis) {
+    const int32_t of = classes.of_block_axis(c.start_block, axis);
+    slack_along_[axis] = negative_slack_ > 0 ? local_class_slack_[of] : 0;
+    local_slack_below_class_ |= slack_along_[axis] < class_slack_[of];
+  }
 }
 
 // The branch-off's arc has the class of the direction the walk takes through it: every block the
@@ -394,17 +405,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
   link_axis_ = configs_.link_axis(config);
-  for (int axis = 0; axis < 3; ++axis) slack_along_[axis] = SlackAlong(config, axis);
-  local_slack_below_class_ = false;
-  if (options_.prune_by_parallel_slack && negative_slack_ > 0) {
-    if (local_slack_entity_ != c.entity) MeasureLocalSlack(config, q);
-    const ParallelClasses& classes = tables_->parallel_classes();
-    for (int axis = 0; axis < 3; ++axis) {
-      const int32_t of = classes.of_block_axis(c.start_block, axis);
-      slack_along_[axis] = local_class_slack_[of];
-      local_slack_below_class_ |= local_class_slack_[of] < class_slack_[of];
-    }
-  }
+  BoundWalks(config, q);
   seen_pre_.Clear();
   seen_post_.Clear();
   branch_offs_.Clear();
