@@ -17,9 +17,9 @@
 // and 100), which tests/server/memory/solver_memory_test.cc holds it to:
 //   * Arcs and bundles: the mesh's tables, the separation search, the rows, the LP columns, and
 //     CLP's copy of an LP when a solve goes to CLP (on LPs of 4000 columns or more, every new
-//     objective does). Single parts of 30k and 100k arcs take 1.16-1.43 KB per arc (12.8-16.8
-//     KB per bundle), feature-dense assemblies 1.68-2.34 KB per arc (10.1-14.4 KB per bundle),
-//     one LP over 300 disjoint copies (decomposition off) 0.94-2.46 KB per arc.
+//     objective does). Single parts of 30k and 100k arcs take 1.02-1.15 KB per arc,
+//     feature-dense assemblies of 30k-300k arcs 1.51-2.22 KB per arc, one LP over 300 disjoint
+//     copies (decomposition off) 0.94-2.46 KB per arc.
 //   * One LP per independent subproblem (one in all without decomposition). Its fixed part is
 //     its vectors of max_pivots entries and its factorization's room for updates, which grows
 //     with its rows up to about 430 KB at 20 rows (core/isp/sparse_dual_simplex.cc). 1000
@@ -29,9 +29,12 @@
 //     kLpMaxBytes; summed over the subproblems that is at most the min() above, however the
 //     bundles are shared out.
 //   * What every solve has: 0.32 MB for the 12-arc cube, up to 1.8 MB on the real meshes.
-// Estimate over measured peak: 1.23-1.68 on the 30k-100k-arc parts (2.1 on a sparser 20k-arc
-// single part at levels 5 and 25), 1.11-2.03 on 200-8000 disjoint copies, 1.10-2.58 on one LP
-// over copies, 1.24-2.91 on the 62 real meshes (each below 2 MB; 13 of 186 runs above 2). The
+// Estimate over measured peak: 1.15-1.88 on the 30k-300k-arc parts (2.1 on a sparser 20k-arc
+// single part at levels 5 and 25; kSolverBytesPerArc went from 1 KiB to 896 bytes when the
+// separation search stopped reading the tables of the starts it settles without a walk, and a
+// 30k-arc single part's peak fell 5-12 %, to 2.01 times the old estimate), 1.11-2.03 on 200-8000
+// disjoint copies, 1.10-2.58 on one LP over copies (both before that change), 1.17-2.97 on the 62
+// real meshes (each below 2 MB; 11 of 186 runs above 2). The
 // large parts' peaks rose 15-30% when new objectives on large LPs went to CLP at once: the
 // estimate follows the solver, and the test says when it no longer does. The cold resident-set
 // growth is 0.2-1.2 times the heap peak: much of an LP's room is allocated but never written,
@@ -51,7 +54,7 @@
 namespace ispq::server {
 
 inline constexpr int64_t kSolverBaseBytes = 128 << 10;
-inline constexpr int64_t kSolverBytesPerArc = 1 << 10;
+inline constexpr int64_t kSolverBytesPerArc = 896;
 inline constexpr int64_t kSolverBytesPerBundle = 10 << 10;
 inline constexpr int64_t kLpBaseBytes = 64 << 10;
 inline constexpr int64_t kLpBytesPerBundle = 40 << 10;
