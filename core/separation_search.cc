@@ -140,7 +140,8 @@ class SeparationSearch::Impl {
   // and, for the local slack, lists the blocks around each negative arc.
   void MeasureNegativeSlack(std::span<const int64_t> q);
   // How far negative arcs could bring a walk from `config` back along each axis of its start
-  // block, into slack_along_: the local slack per class with pruning, else the whole mesh's.
+  // block, into slack_along_: the local slack per class with pruning (noting in
+  // local_slack_below_class_ where it is below the class's), else the whole mesh's.
   void BoundWalks(int config, std::span<const int64_t> q);
   // The negative lengths per class on the blocks any fan of a walk from `config` could admit
   // (core/README.md, section Hopeless walks), into local_class_slack_; the same for every sector
@@ -199,7 +200,8 @@ class SeparationSearch::Impl {
   std::vector<int64_t> class_slack_;
   std::array<int64_t, 3> slack_along_{};
   // (block, negative arc) for every block around a negative arc, sorted; the local class slack
-  // of the entity local_slack_entity_ and whether it left out some negative arc of a class.
+  // of the entity local_slack_entity_; whether the current start's walks are bounded below their
+  // class's slack (then the clean-start memory must not remember the start).
   std::vector<std::pair<BlockId, ArcId>> negative_arc_blocks_;
   std::vector<int64_t> local_class_slack_;
   EntityId local_slack_entity_ = kNoId;
@@ -323,7 +325,6 @@ void SeparationSearch::Impl::MeasureNegativeSlack(std::span<const int64_t> q) {
 }
 
 void SeparationSearch::Impl::BoundWalks(int config, std::span<const int64_t> q) {
-  local_slack_below_class_ = false;
   if (!options_.prune_by_parallel_slack) {
     slack_along_.fill(negative_slack_);
     return;
@@ -401,6 +402,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   box_ = StartBox(config, q);
   const SeparationStartConfiguration& c = configs_[config];
   reach_ = c.is_link ? static_cast<int>(mesh_.entity_halfarcs(c.entity).size()) : 0;
+  local_slack_below_class_ = false;  // set by BoundWalks; a start returned from before has none
   // A collapsed link (negative length, only while simple rows are violated) has an inverted
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
