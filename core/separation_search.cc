@@ -14,6 +14,7 @@
 #include "core/separation_search_tables.h"
 #include "core/separation_start_configurations.h"
 #include "core/stamped_set.h"
+#include "core/walk_slack.h"
 
 namespace ispq {
 namespace {
@@ -56,14 +57,6 @@ struct PopsLater {
   }
 };
 
-// A block placed in the reference frame: a point p of the block (in its own frame) lies at
-// origin + to_block^-1 p. Around a singular arc one block can be placed in several charts.
-struct BlockChart {
-  BlockId block;
-  Rotation to_block;
-  IntVec3 origin;
-};
-
 // A candidate halfarc at the current node and its blocks in the fan (a range of fan_entries_).
 struct Candidate {
   HalfarcId halfarc;
@@ -97,8 +90,6 @@ struct SeparationSearchScratch {
   std::vector<Candidate> candidates;
   std::vector<int32_t> fan_entries;
   std::array<std::vector<ArcId>, kNumDirs> walked_arcs;
-  std::vector<BlockChart> charts;
-  std::vector<ArcId> local_negative_arcs;
 };
 
 SeparationSearchScratch::SeparationSearchScratch(const BlockNodeSlots& slots, const TMesh& mesh)
@@ -136,20 +127,9 @@ class SeparationSearch::Impl {
   }
   void ComputeGeometry(BlockId b);
   IntBox StartBox(int config, std::span<const int64_t> q) const;
-  // Sums the negative lengths per parallel class (or all of them into class 0 without pruning)
-  // and, for the local slack, lists the blocks around each negative arc.
-  void MeasureNegativeSlack(std::span<const int64_t> q);
   // How far negative arcs could bring a walk from `config` back along each axis of its start
-  // block, into slack_along_: the local slack per class with pruning (noting in
-  // local_slack_below_class_ where it is below the class's), else the whole mesh's.
+  // block, into walk_bound_ (core/walk_slack.h).
   void BoundWalks(int config, std::span<const int64_t> q);
-  // The negative lengths per class on the blocks any fan of a walk from `config` could admit
-  // (core/README.md, section Hopeless walks), into local_class_slack_; the same for every sector
-  // of an entity, so computed once per entity and call.
-  void MeasureLocalSlack(int config, std::span<const int64_t> q);
-  // Whether every walk from `config` is hopeless from its first step off the start entity, so
-  // that the search cannot report (core/README.md, section Hopeless walks).
-  bool AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const;
 
   // One search (core/README.md, section Walks and their order); true and `violation` filled on the
   // first hit, else the search's reach is left in reach_ (core/clean_starts.h).
@@ -193,19 +173,11 @@ class SeparationSearch::Impl {
   DirSet link_axis_ = 0;
   std::vector<Walk>& arena_;
   std::vector<QueueEntry>& queue_;
-  int hopeful_in_queue_ = 0;    // queued walks that are not hopeless
-  int64_t negative_slack_ = 0;  // sum of -q_a over the arcs with q_a < 0
-  // The same sum per parallel class (core/parallel_classes.h), and per reference axis of the
-  // current search: how far negative arcs could bring a walk back along that axis.
-  std::vector<int64_t> class_slack_;
-  std::array<int64_t, 3> slack_along_{};
-  // (block, negative arc) for every block around a negative arc, sorted; the local class slack
-  // of the entity local_slack_entity_; whether the current start's walks are bounded below their
-  // class's slack (then the clean-start memory must not remember the start).
-  std::vector<std::pair<BlockId, ArcId>> negative_arc_blocks_;
-  std::vector<int64_t> local_class_slack_;
-  EntityId local_slack_entity_ = kNoId;
-  bool local_slack_below_class_ = false;
+  int hopeful_in_queue_ = 0;  // queued walks that are not hopeless
+  // How far negative arcs could bring walks back (core/walk_slack.h): measured per call, and the
+  // bound of the current start.
+  WalkSlack walk_slack_;
+  WalkSlack::StartBound walk_bound_;
   int reach_ = 0;                      // the most steps of an expanded walk (and the link's arcs)
   StampedSet &seen_pre_, &seen_post_;  // over nodes
   StampedSet& branch_offs_;            // over halfarcs
@@ -220,8 +192,6 @@ class SeparationSearch::Impl {
   std::vector<Candidate>& candidates_;
   std::vector<int32_t>& fan_entries_;  // indices for SeparationSearchTables::HalfarcBlockAt
   std::array<std::vector<ArcId>, kNumDirs>& walked_arcs_;  // L[d] while building rows
-  std::vector<BlockChart>& charts_;                        // MeasureLocalSlack's closure
-  std::vector<ArcId>& local_negative_arcs_;
 
   // The configurations that came back clean on the last call's q, this search's own.
   CleanStarts clean_starts_;
@@ -245,6 +215,7 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
       geometry_q_(scratch_->geometry_q),
       arena_(scratch_->arena),
       queue_(scratch_->queue),
+      walk_slack_(mesh, *tables_, options.prune_by_parallel_slack),
       seen_pre_(scratch_->seen_pre),
       seen_post_(scratch_->seen_post),
       branch_offs_(scratch_->branch_offs),
@@ -258,8 +229,6 @@ SeparationSearch::Impl::Impl(const TMesh& mesh, std::shared_ptr<SeparationSearch
       candidates_(scratch_->candidates),
       fan_entries_(scratch_->fan_entries),
       walked_arcs_(scratch_->walked_arcs),
-      charts_(scratch_->charts),
-      local_negative_arcs_(scratch_->local_negative_arcs),
       clean_starts_(mesh, slots_, configs_.size()) {}
 
 void SeparationSearch::Impl::ComputeGeometry(BlockId b) {
@@ -303,50 +272,12 @@ IntBox SeparationSearch::Impl::StartBox(int config, std::span<const int64_t> q) 
   return box;
 }
 
-void SeparationSearch::Impl::MeasureNegativeSlack(std::span<const int64_t> q) {
-  const ParallelClasses& classes = tables_->parallel_classes();
-  class_slack_.assign(options_.prune_by_parallel_slack ? classes.num_classes() : 1, 0);
-  negative_slack_ = 0;
-  negative_arc_blocks_.clear();
-  local_slack_entity_ = kNoId;
-  for (ArcId a = 0; a < static_cast<ArcId>(q.size()); ++a) {
-    if (q[a] >= 0) continue;
-    negative_slack_ -= q[a];
-    if (!options_.prune_by_parallel_slack) {
-      class_slack_[0] -= q[a];
-      continue;
-    }
-    class_slack_[classes.of_arc(a)] -= q[a];
-    for (const HalfarcInBlock& entry : tables_->HalfarcBlocks(HalfarcOf(a, false))) {
-      negative_arc_blocks_.push_back({entry.block, a});
-    }
-  }
-  std::sort(negative_arc_blocks_.begin(), negative_arc_blocks_.end());
-}
-
 void SeparationSearch::Impl::BoundWalks(int config, std::span<const int64_t> q) {
-  if (!options_.prune_by_parallel_slack) {
-    slack_along_.fill(negative_slack_);
-    return;
-  }
-  const SeparationStartConfiguration& c = configs_[config];
-  if (negative_slack_ > 0 && local_slack_entity_ != c.entity) MeasureLocalSlack(config, q);
-  const ParallelClasses& classes = tables_->parallel_classes();
-  for (int axis = 0; axis < 3; ++axis) {
-    const int32_t of = classes.of_block_axis(c.start_block, axis);
-    slack_along_[axis] = negative_slack_ > 0 ? local_class_slack_[of] : 0;
-    local_slack_below_class_ |= slack_along_[axis] < class_slack_[of];
-  }
-}
-
-// The branch-off's arc has the class of the direction the walk takes through it: every block the
-// walk steps in is reached from the start block through patches (core/parallel_classes.h).
-bool SeparationSearch::Impl::AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const {
-  const ParallelClasses& classes = tables_->parallel_classes();
-  for (HalfarcId h : configs_.branch_offs(config)) {
-    if (q[ArcOf(h)] <= class_slack_[classes.of_arc(ArcOf(h))]) return false;
-  }
-  return true;
+  // Named: the FunctionRef below must not outlive it.
+  const auto ensure = [this](BlockId b) { EnsureGeometry(b); };
+  const PlacedGeometry geometry = {
+      .ensure = ensure, .positions = positions_, .side_boxes = side_boxes_};
+  walk_bound_ = walk_slack_.ForStart(config, q, box_, geometry);
 }
 
 int64_t SeparationSearch::Impl::FindViolations(
@@ -357,8 +288,8 @@ int64_t SeparationSearch::Impl::FindViolations(
     geometry_q_.assign(q.begin(), q.end());
     geometry_ready_.Clear();
   }
-  MeasureNegativeSlack(q);
-  clean_starts_.StartSearch(q, class_slack_);
+  walk_slack_.Measure(q);
+  clean_starts_.StartSearch(q, walk_slack_.per_class());
   int64_t found = 0;
   SeparationViolation violation;
   for (int config = 0; config < configs_.size(); ++config) {
@@ -366,7 +297,7 @@ int64_t SeparationSearch::Impl::FindViolations(
       ++skipped_starts_;
       continue;
     }
-    if (options_.prune_by_parallel_slack && AheadAtEveryBranchOff(config, q)) {
+    if (options_.prune_by_parallel_slack && walk_slack_.AheadAtEveryBranchOff(config, q)) {
       ++settled_at_branch_offs_;
       // A node start's walk would have expanded its start node alone (reach 0) and read the one
       // arc checked here. A link start's walk reads further along the link before it ends, so its
@@ -380,7 +311,7 @@ int64_t SeparationSearch::Impl::FindViolations(
     }
     if (!Search(config, q, violation)) {
       // A local bound read blocks around the start that the walks need not have reached.
-      if (local_slack_below_class_) {
+      if (walk_bound_.below_class) {
         clean_starts_.Forget(config);
       } else {
         clean_starts_.RecordClean(config, reach_);
@@ -402,7 +333,7 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
   box_ = StartBox(config, q);
   const SeparationStartConfiguration& c = configs_[config];
   reach_ = c.is_link ? static_cast<int>(mesh_.entity_halfarcs(c.entity).size()) : 0;
-  local_slack_below_class_ = false;  // set by BoundWalks; a start returned from before has none
+  walk_bound_ = {};  // set by BoundWalks; a start returned from before has none
   // A collapsed link (negative length, only while simple rows are violated) has an inverted
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
@@ -465,68 +396,6 @@ bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
     Expand(index, at_start_box, q);
   }
   return false;
-}
-
-// Every block a walk steps in is admitted by a fan, and a fan reaches a block from the walk's
-// block across patches whose boxes touch the start box (every patch at a node inside it does). So
-// from the start block, placed as the search places it, crossing every owned side whose box
-// touches the start box reaches every (block, chart) a fan can, and a step happens only in those
-// whose sorted corner box touches the start box (the reference's unsorted box admits fewer).
-// Only the negative arcs of those blocks can bring a walk back.
-void SeparationSearch::Impl::MeasureLocalSlack(int config, std::span<const int64_t> q) {
-  constexpr size_t kMaxCharts = 64;  // beyond this, the class bound stands
-  const SeparationStartConfiguration& c = configs_[config];
-  const ParallelClasses& classes = tables_->parallel_classes();
-  local_slack_entity_ = c.entity;
-  local_class_slack_.assign(class_slack_.size(), 0);
-  local_negative_arcs_.clear();
-  charts_.clear();
-  EnsureGeometry(c.start_block);
-  const IntVec3& start = positions_[tables_->config_start_slot(config)];
-  charts_.push_back({c.start_block, Rotation(), {-start[0], -start[1], -start[2]}});
-  for (size_t i = 0; i < charts_.size(); ++i) {
-    if (charts_.size() > kMaxCharts) {
-      local_class_slack_ = class_slack_;
-      return;
-    }
-    const BlockChart chart = charts_[i];
-    const BlockId b = chart.block;
-    const Rotation to_reference = chart.to_block.Inverse();
-    const auto place = [&](const IntVec3& p) { return Add(chart.origin, to_reference.Apply(p)); };
-    const IntBox corners = SpannedBox(place(positions_[slots_.corner_slot(b, kMinCorner)]),
-                                      place(positions_[slots_.corner_slot(b, kMaxCorner)]));
-    if (TouchesStartBox(corners)) {
-      auto it = std::lower_bound(negative_arc_blocks_.begin(), negative_arc_blocks_.end(),
-                                 std::pair<BlockId, ArcId>{b, 0});
-      for (; it != negative_arc_blocks_.end() && it->first == b; ++it) {
-        const ArcId a = it->second;
-        if (std::find(local_negative_arcs_.begin(), local_negative_arcs_.end(), a) !=
-            local_negative_arcs_.end()) {
-          continue;
-        }
-        local_negative_arcs_.push_back(a);
-        local_class_slack_[classes.of_arc(a)] -= q[a];
-      }
-    }
-    for (const HalfpatchId side : mesh_.block_halfpatches(b)) {
-      if (mesh_.halfpatch_block(side) != b) continue;  // another block's side
-      const BlockId across = mesh_.halfpatch_block(side ^ 1);
-      if (across == kNoId) continue;
-      const IntBox& box = side_boxes_[side];
-      if (!TouchesStartBox(SpannedBox(place(box.lo), place(box.hi)))) continue;
-      const SlotId anchor = tables_->SideSlots(side).front();
-      const SlotId anchor_across = slots_.Find(across, slots_.node_of(anchor));
-      ISPQ_INVARIANT(anchor_across != kNoId, "a patch's nodes lie on both of its blocks");
-      EnsureGeometry(across);
-      const Rotation to_across = mesh_.crossing_rotation(side).After(chart.to_block);
-      const IntVec3 origin =
-          Subtract(place(positions_[anchor]), to_across.Inverse().Apply(positions_[anchor_across]));
-      const bool known = std::any_of(charts_.begin(), charts_.end(), [&](const BlockChart& other) {
-        return other.block == across && other.to_block == to_across && other.origin == origin;
-      });
-      if (!known) charts_.push_back({across, to_across, origin});
-    }
-  }
 }
 
 void SeparationSearch::Impl::Push(const Walk& walk) {
@@ -653,7 +522,7 @@ bool SeparationSearch::Impl::Admissible(const Walk& walk, bool at_start_box, Blo
   if (fan_admissible_[block] >= 0) return fan_admissible_[block] != 0;
   // Without negative arcs every boundary node lies in its block's sorted box, so that box
   // contains the walk's position.
-  if (at_start_box && negative_slack_ == 0 && options_.block_box == BlockBoxMode::kSorted) {
+  if (at_start_box && walk_slack_.total() == 0 && options_.block_box == BlockBoxMode::kSorted) {
     fan_admissible_[block] = 1;
     return true;
   }
@@ -718,7 +587,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
         const int64_t ahead =
             IsNegative(monotone) ? -next.offset[AxisOf(monotone)] : next.offset[AxisOf(monotone)];
-        next.hopeless = ahead > slack_along_[AxisOf(monotone)];
+        next.hopeless = ahead > walk_bound_.along[AxisOf(monotone)];
       }
       Push(next);
       break;

@@ -11,10 +11,10 @@
 // instance serves one thread. A call computes block positions and patch boxes only for the blocks
 // its fans reach.
 //
-// Why one file of ~800 lines: the walk, its heap order, the fan of candidate moves, the
-// admissibility test and the bounds that prune walks (which place blocks as the fans do) share one
-// set of invariants (core/README.md, section The lazy separation search) and one scratch state; the
-// parts that stand alone are already apart (mesh tables, start configurations, parallel classes,
+// Why one file of ~700 lines: the walk, its heap order, the fan of candidate moves and the
+// admissibility test share one set of invariants (core/README.md, section The lazy separation
+// search) and one scratch state; the parts that stand alone are apart (mesh tables, start
+// configurations, parallel classes, the bounds that prune walks in core/walk_slack.h,
 // neighbourhoods of halfarcs, block node positions, integer boxes).
 #ifndef ISPQ_CORE_SEPARATION_SEARCH_H_
 #define ISPQ_CORE_SEPARATION_SEARCH_H_
