@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // Linked into every executable of the `tsan` preset (CMakeLists.txt, ISPQ_TSAN): tells
-// ThreadSanitizer about absl::Mutex and absl::CondVar.
+// ThreadSanitizer about absl::Mutex, absl::CondVar and absl::Notification.
 //
 // Debian's abseil is not built with -fsanitize=thread, so its Mutex carries none of the
 // __tsan_mutex_* annotations that an instrumented abseil has, and its atomics are invisible:
@@ -21,12 +21,14 @@
 #include <dlfcn.h>
 #include <sanitizer/tsan_interface.h>
 
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <string_view>
 
 #include "absl/base/options.h"
 #include "absl/synchronization/mutex.h"
+#include "absl/synchronization/notification.h"
 #include "absl/time/time.h"
 
 #if defined(__clang__)
@@ -122,6 +124,21 @@ bool TryAcquiring(void* mutex, unsigned flags, bool (*real)(absl::Mutex*), absl:
   }
   __tsan_mutex_post_lock(mutex, flags | kTry | (locked ? 0 : kTryFailed), 0);
   return locked;
+}
+
+// absl::Notification as Debian 12's abseil lays it out: a Mutex, then the flag that Notify sets
+// (under the mutex) and that waiters read with an acquire load.
+struct NotificationLayout {
+  absl::Mutex mutex;
+  std::atomic<bool> notified_yet;
+};
+static_assert(sizeof(NotificationLayout) == sizeof(absl::Notification) &&
+                  alignof(NotificationLayout) == alignof(absl::Notification),
+              "another absl::Notification: update absl_sync_annotations.cc");
+
+void* FlagOf(const absl::Notification* notification) {
+  return &reinterpret_cast<NotificationLayout*>(const_cast<absl::Notification*>(notification))
+              ->notified_yet;
 }
 
 }  // namespace
@@ -232,6 +249,45 @@ bool CondVar::WaitWithDeadline(Mutex* mu, Time deadline) {
   using Function = bool (*)(CondVar*, Mutex*, Time);
   ISPQ_REAL(Function, "_ZN4absl7debian37CondVar16WaitWithDeadlineEPNS0_5MutexENS0_4TimeE");
   return ReleasedDuring(mu, [&] { return real(this, mu, deadline); });
+}
+
+// A waiter that finds the flag already set takes no lock: WaitForNotification* return at once
+// from inside abseil, and the inline HasBeenNotified() loads the flag in our own code, so TSan
+// saw no edge from the notifier's writes to the waiter's reads (HandlerPoolTest.NamesItsThreads
+// reported one, once: the task had notified before the test began to wait). Notify releases on
+// the flag's address, which the instrumented acquire load of HasBeenNotified() pairs with; a wait
+// that returns true acquires on it.
+using NotifyFunction = void (*)(Notification*);
+using WaitFunction = void (*)(const Notification*);
+using WaitTimeoutFunction = bool (*)(const Notification*, Duration);
+using WaitDeadlineFunction = bool (*)(const Notification*, Time);
+
+void Notification::Notify() {
+  ISPQ_REAL(NotifyFunction, "_ZN4absl7debian312Notification6NotifyEv");
+  __tsan_release(FlagOf(this));
+  real(this);
+}
+
+void Notification::WaitForNotification() const {
+  ISPQ_REAL(WaitFunction, "_ZNK4absl7debian312Notification19WaitForNotificationEv");
+  real(this);
+  __tsan_acquire(FlagOf(this));
+}
+
+bool Notification::WaitForNotificationWithTimeout(Duration timeout) const {
+  ISPQ_REAL(WaitTimeoutFunction,
+            "_ZNK4absl7debian312Notification30WaitForNotificationWithTimeoutENS0_8DurationE");
+  const bool notified = real(this, timeout);
+  if (notified) __tsan_acquire(FlagOf(this));
+  return notified;
+}
+
+bool Notification::WaitForNotificationWithDeadline(Time deadline) const {
+  ISPQ_REAL(WaitDeadlineFunction,
+            "_ZNK4absl7debian312Notification31WaitForNotificationWithDeadlineENS0_4TimeE");
+  const bool notified = real(this, deadline);
+  if (notified) __tsan_acquire(FlagOf(this));
+  return notified;
 }
 
 ABSL_NAMESPACE_END
