@@ -141,6 +141,12 @@ void* FlagOf(const absl::Notification* notification) {
               ->notified_yet;
 }
 
+// A wait on `notification` that returns `notified` true has seen Notify's release on the flag.
+bool AcquireIfNotified(const absl::Notification* notification, bool notified) {
+  if (notified) __tsan_acquire(FlagOf(notification));
+  return notified;
+}
+
 }  // namespace
 
 namespace absl {
@@ -271,23 +277,19 @@ void Notification::Notify() {
 void Notification::WaitForNotification() const {
   ISPQ_REAL(WaitFunction, "_ZNK4absl7debian312Notification19WaitForNotificationEv");
   real(this);
-  __tsan_acquire(FlagOf(this));
+  AcquireIfNotified(this, true);
 }
 
 bool Notification::WaitForNotificationWithTimeout(Duration timeout) const {
   ISPQ_REAL(WaitTimeoutFunction,
             "_ZNK4absl7debian312Notification30WaitForNotificationWithTimeoutENS0_8DurationE");
-  const bool notified = real(this, timeout);
-  if (notified) __tsan_acquire(FlagOf(this));
-  return notified;
+  return AcquireIfNotified(this, real(this, timeout));
 }
 
 bool Notification::WaitForNotificationWithDeadline(Time deadline) const {
   ISPQ_REAL(WaitDeadlineFunction,
             "_ZNK4absl7debian312Notification31WaitForNotificationWithDeadlineENS0_4TimeE");
-  const bool notified = real(this, deadline);
-  if (notified) __tsan_acquire(FlagOf(this));
-  return notified;
+  return AcquireIfNotified(this, real(this, deadline));
 }
 
 ABSL_NAMESPACE_END
