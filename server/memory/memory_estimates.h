@@ -30,13 +30,13 @@
 //     bundles are shared out.
 //   * What every solve has: 0.32 MB for the 12-arc cube, up to 1.8 MB on the real meshes.
 // Estimate over measured peak: 1.15-1.88 on the 30k-300k-arc parts (2.1 on a sparser 20k-arc
-// single part at levels 5 and 25; kSolverBytesPerArc went from 1 KiB to 896 bytes when the
-// separation search stopped reading the tables of the starts it settles without a walk, and a
-// 30k-arc single part's peak fell 5-12 %, to 2.01 times the old estimate), 1.11-2.03 on 200-8000
-// disjoint copies, 1.10-2.58 on one LP over copies (both before that change), 1.17-2.97 on the 62
-// real meshes (each below 2 MB; 11 of 186 runs above 2). The
-// large parts' peaks rose 15-30% when new objectives on large LPs went to CLP at once: the
-// estimate follows the solver, and the test says when it no longer does. The cold resident-set
+// single part at levels 5 and 25), 1.17-2.97 on the 62 real meshes (each below 2 MB; 11 of 186
+// runs above 2), and, measured with 1 KiB per arc, 1.11-2.03 on 200-8000 disjoint copies and
+// 1.10-2.58 on one LP over copies. 896 bytes per arc since the separation search stopped reading
+// the tables of the starts it settles without a walk: a 30k-arc single part's peak fell 5-12 %,
+// to 2.01 times the 1 KiB estimate. The large parts' peaks rose 15-30% when new objectives on
+// large LPs went to CLP at once: the estimate follows the solver, and the test says when it no
+// longer does. The cold resident-set
 // growth is 0.2-1.2 times the heap peak: much of an LP's room is allocated but never written,
 // which a long-running server's allocator does not promise. Exact mode adds CBC's branch and
 // bound: up to 15 MB on real meshes of 300 arcs and 23 KB per arc on a 30k-arc assembly (697 MB,
