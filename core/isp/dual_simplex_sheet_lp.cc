@@ -64,7 +64,7 @@ class DualSimplexSheetLp final : public SheetLp {
         simplex_.num_columns() >= simplex_.options().new_objective_clp_min_columns) {
       return SolveWithClp();
     }
-    switch (simplex_.Solve(PivotBudget())) {
+    switch (simplex_.Solve(PivotBudget(), WorkBudget())) {
       case SparseDualSimplex::Status::kOptimal:
         return LpOutcome::kOptimal;
       case SparseDualSimplex::Status::kInfeasible:
@@ -114,6 +114,24 @@ class DualSimplexSheetLp final : public SheetLp {
     return std::max<int64_t>({1, options.new_objective_min_pivots, std::llround(per_rows)});
   }
 
+  // A warm solve on a large LP can cost far more than CLP's solve from scratch: on the optimal
+  // basis of a whole part its pivots are dense (at 10^6 arcs each touched most of the 500k rows,
+  // 2-4 ms a pivot, against 0.16 ms for CLP's from the slack basis: one separating update took
+  // 121k pivots and 274 s, CLP's solves from scratch of that LP 11-14 s). So a warm solve is given
+  // a multiple of what CLP's last solve from scratch of this LP cost, estimated from its pivots
+  // (deterministically: the same answer on any machine), and handed to CLP past it; at worst
+  // that costs (factor + 1) times the cheaper of the two. 0: no budget.
+  int64_t WorkBudget() const {
+    const SparseDualSimplexOptions& options = simplex_.options();
+    if (simplex_.most_costs_changed() || last_clp_pivots_ == 0 ||
+        simplex_.num_columns() < options.warm_budget_min_columns) {
+      return 0;
+    }
+    const double pivots = static_cast<double>(last_clp_pivots_);
+    return std::max<int64_t>(1, std::llround(options.warm_budget_factor * pivots * pivots /
+                                             options.clp_pivots_squared_per_work));
+  }
+
   // The model as it stands, solved from scratch by CLP, without the rows that hold on the whole
   // column box (HoldsOnColumnBox). Leaving them out is what CLP's presolve did to these models,
   // and nearly all it did; without it the model is built once and not copied again, a bulk
@@ -144,6 +162,7 @@ class DualSimplexSheetLp final : public SheetLp {
       clp->SetColumnBounds(j, simplex_.lower(j), simplex_.upper(j));
     }
     absl::StatusOr<LpOutcome> outcome = clp->Solve();
+    last_clp_pivots_ = clp->counters().pivots;
     fallback_pivots_ += clp->counters().pivots;
     if (outcome.ok() && *outcome == LpOutcome::kOptimal) {
       fallback_values_.assign(clp->column_values().begin(), clp->column_values().end());
@@ -169,6 +188,7 @@ class DualSimplexSheetLp final : public SheetLp {
   std::vector<double> fallback_values_;
   int64_t fallback_solves_ = 0;
   int64_t fallback_pivots_ = 0;
+  int64_t last_clp_pivots_ = 0;  // of the last solve from scratch by CLP (WorkBudget)
 };
 
 }  // namespace

@@ -346,6 +346,7 @@ void SparseDualSimplex::AdoptBasis(std::span<const uint8_t> is_basic,
 
 bool SparseDualSimplex::Refactorize() {
   ++refactorizations_;
+  work_done_ += num_rows_;
   factorization_valid_ = false;
   const int m = num_rows_;
   const int capacity = m + options_.max_pivots + 16;
@@ -707,6 +708,7 @@ bool SparseDualSimplex::Pivot(int position, int entering, int direction, double 
   factorization_->setCollectStatistics(true);
   factorization_->updateColumnFT(work_.get(), column_.get());
   factorization_->setCollectStatistics(false);
+  work_done_ += row_->getNumElements() + column_->getNumElements();
   const double* w = column_->denseVector();
   const double pivot = w[position];
   const double alpha = alpha_[entering];
@@ -787,7 +789,7 @@ bool SparseDualSimplex::most_costs_changed() const {
   return costs_changed_ > std::max<int64_t>(100, num_columns_ / 10);
 }
 
-SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
+SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations, int64_t max_work) {
   if (max_iterations <= 0 || max_iterations > options_.max_iterations) {
     max_iterations = options_.max_iterations;
   }
@@ -796,6 +798,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
   // column took thousands of pivots (1.8 s for one solve at 100k arcs).
   if (most_costs_changed()) ResetToSlackBasis();
   costs_changed_ = 0;
+  const int64_t work_limit = max_work > 0 ? work_done_ + max_work : 0;
   int64_t iterations = 0;
   int trouble = 0;
   bool reset = false;
@@ -839,6 +842,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
       return Status::kOptimal;
     }
     if (++iterations > max_iterations) return Status::kFailed;
+    if (work_limit > 0 && work_done_ > work_limit) return Status::kFailed;
     ComputePivotRow(position);
     if (!RefreshLeavingValue(position)) {
       // It was only rounding. A refreshed value is as exact as a recomputed one, so the flag
@@ -861,6 +865,7 @@ SparseDualSimplex::Status SparseDualSimplex::Solve(int64_t max_iterations) {
     const int entering = ChooseEntering(direction, &dual_step);
     bool pivoted = false;
     if (entering >= 0) pivoted = Pivot(position, entering, direction, dual_step);
+    work_done_ += static_cast<int64_t>(alpha_touched_.size());
     row_->clear();
     for (int32_t v : alpha_touched_) alpha_[v] = 0;
     alpha_touched_.clear();

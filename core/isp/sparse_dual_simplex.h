@@ -80,6 +80,14 @@ struct SparseDualSimplexOptions {
   // 100k-arc part need 5-20k pivots from the slack basis), and the sheet LP takes CLP's optimal
   // basis back (AdoptBasis). On the 100k-arc benchmark parts 8-20% less CPU, same q; at 30k equal.
   int new_objective_clp_min_columns = 4000;
+  // A warm solve (no new objective) on an LP of at least warm_budget_min_columns columns is handed
+  // to CLP once its work (SparseDualSimplex::work()) passes warm_budget_factor times what CLP's
+  // last solve from scratch of this LP is estimated to cost: pivots^2 / clp_pivots_squared_per_work
+  // (measured on the bulk LPs of 300k- and 10^6-arc parts: CLP's CPU time from scratch is
+  // 2.1-3.1e-9 s times its pivots squared, a unit of work here 80-170 ns).
+  int warm_budget_min_columns = 150000;
+  double warm_budget_factor = 2;
+  double clp_pivots_squared_per_work = 40;
 };
 
 class SparseDualSimplex {
@@ -102,8 +110,9 @@ class SparseDualSimplex {
   // Appends rows; they get the ids num_rows() .. num_rows() + batch.size() - 1.
   void AddRows(const LpRowBatch& batch);
 
-  // kFailed after max_iterations pivots (options' limit when 0 or larger).
-  Status Solve(int64_t max_iterations = 0);
+  // kFailed after max_iterations pivots (options' limit when 0 or larger), or once the solve's
+  // work (see work()) passes max_work (no limit when 0).
+  Status Solve(int64_t max_iterations = 0, int64_t max_work = 0);
   // Polled every kPassesBetweenStopChecks passes of Solve()'s loop (about as many pivots): a
   // solve ends with kStopped once it holds. Empty: never stops early.
   void SetStopCheck(LpStopCheck should_stop) { should_stop_ = std::move(should_stop); }
@@ -144,6 +153,9 @@ class SparseDualSimplex {
   // Counters since construction.
   int64_t iterations() const { return iterations_; }
   int64_t degenerate_pivots() const { return degenerate_pivots_; }
+  // A deterministic measure of the work done so far, proportional to CPU time: the entries of
+  // every pivot's BTRAN, FTRAN and pivot row, and the rows of every refactorization.
+  int64_t work() const { return work_done_; }
   int64_t stalled_solves() const { return stalled_solves_; }
   int64_t refactorizations() const { return refactorizations_; }
   const SparseDualSimplexOptions& options() const { return options_; }
@@ -282,6 +294,7 @@ class SparseDualSimplex {
 
   int64_t costs_changed_ = 0;  // since the last solve
   int64_t iterations_ = 0;
+  int64_t work_done_ = 0;
   int64_t degenerate_pivots_ = 0;
   int64_t stalled_solves_ = 0;
   int64_t refactorizations_ = 0;

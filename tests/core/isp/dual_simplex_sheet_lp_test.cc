@@ -154,6 +154,35 @@ TEST(DualSimplexSheetLpTest, ANewObjectiveOverItsPivotBudgetGoesToClp) {
   EXPECT_EQ(live->counters().fallback_solves, 2);
 }
 
+// A warm solve on a large LP gets a work budget from what CLP's last solve from scratch of it
+// cost; past it, CLP solves it from scratch. The same edits with the budget off (an LP below
+// warm_budget_min_columns) stay with the sparse simplex; both answer as fresh CLP models.
+TEST(DualSimplexSheetLpTest, AWarmSolveOverItsWorkBudgetGoesToClp) {
+  CoveringLp model(14);
+  const SparseDualSimplexOptions tight = {
+      .new_objective_clp_min_columns = 0, .warm_budget_min_columns = 0, .warm_budget_factor = 1e-9};
+  const SparseDualSimplexOptions off = {.new_objective_clp_min_columns = 0,
+                                        .warm_budget_min_columns = CoveringLp::kColumns + 1};
+  std::unique_ptr<SheetLp> budgeted = NewDualSimplexSheetLp(CoveringLp::kColumns, tight);
+  std::unique_ptr<SheetLp> unbudgeted = NewDualSimplexSheetLp(CoveringLp::kColumns, off);
+  model.Load(*budgeted, true);
+  model.Load(*unbudgeted, true);
+  int64_t warm_pivots = 0;  // of the unbudgeted LP's warm solves
+  for (int round = 0; round < 6; ++round) {
+    SCOPED_TRACE("round " + std::to_string(round));
+    const int64_t before = unbudgeted->counters().pivots;
+    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*budgeted, *model.Fresh(), model.costs));
+    ASSERT_NO_FATAL_FAILURE(ExpectSameAnswer(*unbudgeted, *model.Fresh(), model.costs));
+    if (round > 0) warm_pivots += unbudgeted->counters().pivots - before;
+    for (int k = 0; k < 10; ++k) model.ChangeSomeCosts();  // 30 of 160: still no new objective
+    model.Load(*budgeted, false);
+    model.Load(*unbudgeted, false);
+  }
+  ASSERT_GT(warm_pivots, 0) << "the cost changes must take the warm solves some pivots";
+  EXPECT_EQ(unbudgeted->counters().fallback_solves, 1) << "only the first, a new objective";
+  EXPECT_GT(budgeted->counters().fallback_solves, 1);
+}
+
 // After CLP solved a new objective, the sparse dual simplex goes on from CLP's basis: a few cost
 // changes later it solves warm, without CLP (were the basis not taken back, every later solve
 // would look like a new objective to it and go to CLP too), and answers as a fresh CLP model.

@@ -406,6 +406,35 @@ TEST(SparseDualSimplexTest, CountsDegeneratePivotsAndGivesUpAStall) {
   EXPECT_EQ(stalling->stalled_solves(), 1);
 }
 
+// work() grows with every pivot and refactorization; a solve given less work than it needs gives
+// up with kFailed, and the same solve given enough finishes.
+TEST(SparseDualSimplexTest, GivesUpPastItsWorkLimit) {
+  auto make = [] {
+    auto simplex = std::make_unique<SparseDualSimplex>(4);
+    LpRowBatch rows;
+    rows.Add(std::vector<int32_t>{0, 1}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    rows.Add(std::vector<int32_t>{1, 2}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    rows.Add(std::vector<int32_t>{2, 3}, std::vector<double>{1, 1}, 1, kLpInfinity);
+    simplex->AddRows(rows);
+    for (int j = 0; j < 4; ++j) {
+      simplex->SetColumnBounds(j, 0, 5);
+      simplex->SetObjectiveCoefficient(j, 1 + j);
+    }
+    return simplex;
+  };
+  std::unique_ptr<SparseDualSimplex> unlimited = make();
+  ASSERT_EQ(unlimited->Solve(), Status::kOptimal);
+  ASSERT_GT(unlimited->iterations(), 1);
+  const int64_t needed = unlimited->work();
+  EXPECT_GT(needed, unlimited->num_rows()) << "the pivots count, not only the refactorization";
+
+  std::unique_ptr<SparseDualSimplex> limited = make();
+  EXPECT_EQ(limited->Solve(0, /*max_work=*/1), Status::kFailed);
+  EXPECT_LT(limited->iterations(), unlimited->iterations());
+  std::unique_ptr<SparseDualSimplex> enough = make();
+  EXPECT_EQ(enough->Solve(0, /*max_work=*/needed), Status::kOptimal);
+}
+
 // A basis that is singular (two equal rows, both their logicals out of it) cannot be factorized:
 // the solver falls back to the slack basis and still reaches the optimum CLP finds.
 TEST(SparseDualSimplexTest, RecoversFromASingularAdoptedBasis) {
