@@ -6,8 +6,8 @@
 // handed to CLP on a copy of the model built for that solve, so every solve still gets an
 // answer. So is a solve after a new objective that needs many pivots from the slack basis, where
 // CLP is faster (SparseDualSimplexOptions::new_objective_min_pivots), and, on a very large LP, a
-// warm solve that has cost more than CLP's last solve from scratch of it is estimated to cost
-// (SparseDualSimplexOptions::warm_budget_factor).
+// warm solve that has done more work than a multiple of what CLP's last solve from scratch of it
+// is estimated to cost (SparseDualSimplexOptions::warm_budget_factor).
 #ifndef ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 #define ISPQ_CORE_ISP_DUAL_SIMPLEX_SHEET_LP_H_
 
