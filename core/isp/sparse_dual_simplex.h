@@ -84,7 +84,8 @@ struct SparseDualSimplexOptions {
   // to CLP once its work (SparseDualSimplex::work()) passes warm_budget_factor times what CLP's
   // last solve from scratch of this LP is estimated to cost: pivots^2 / clp_pivots_squared_per_work
   // (measured on the bulk LPs of 300k- and 10^6-arc parts: CLP's CPU time from scratch is
-  // 2.1-3.1e-9 s times its pivots squared, a unit of work here 80-170 ns).
+  // 2.1-3.5e-9 s times its pivots squared, a unit of work here 77-270 ns; see
+  // tests/bench/large/results/assembly/README.md).
   int warm_budget_min_columns = 150000;
   double warm_budget_factor = 2;
   double clp_pivots_squared_per_work = 40;
