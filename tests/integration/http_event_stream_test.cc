@@ -217,9 +217,10 @@ TEST(HttpEventStreamTest, OpenStreamsAreBounded) {
 
 // At SIGTERM the running job is interrupted near the end of the grace period; its stream, which
 // no thread waits on, is woken by the job's last event and writes it and the `end` frame before
-// the HTTP side stops.
+// the HTTP side stops. The grace period gives interrupted jobs the full window a deployment gets
+// (5 s; see ShutdownTest.TheEndOfTheGracePeriodInterruptsRunningJobsAndDeliversTheirResults).
 TEST(HttpEventStreamTest, StreamsEndWithTheirJobsLastEventsAtShutdown) {
-  HttpServer server = StartHttpServerOrFail({"--workers=1", "--shutdown_grace_seconds=8"});
+  HttpServer server = StartHttpServerOrFail({"--workers=1", "--shutdown_grace_seconds=20"});
   ASSERT_NE(server.process, nullptr);
   client::QuantizerClient client = ClientOf(*server.process);
   const absl::StatusOr<v1::Job> job = client.SubmitJob(RequestFor(LongRunningMesh(), 100));
