@@ -65,7 +65,9 @@ STATS = [("arcs", "arcs", 0), ("entities_per_arc", "critical entities per arc", 
          ("critical_arc_share", "critical-arc share", 3), ("bundles", "bundles", 0),
          ("arcs_per_bundle", "arcs per bundle", 1), ("mesh_subproblems", "subproblems", 0),
          ("largest_subproblem_bundles", "largest subproblem (bundles)", 0),
-         ("largest_subproblem_share", "largest subproblem's share of the bundles", 2)]
+         ("largest_subproblem_share", "largest subproblem's share of the bundles", 2),
+         ("interior_singular_arcs", "interior singular arcs", 0),
+         ("global_frames", "global block frames (1: per-axis node potentials exist)", 0)]
 
 
 def seconds(row, key):

@@ -16,7 +16,8 @@
 // with the same q). Then the mesh's statistics (MeshStatsColumns below), which say how hard the
 // mesh is beside its size: blocks, critical entities (nodes, links, regions) and arcs, critical
 // entities per arc and the critical arcs' share, bundles and arcs per bundle, the subproblems of
-// the decomposition before the solve and the largest one's bundles. --stats_only prints these
+// the decomposition before the solve and the largest one's bundles, the interior singular arcs
+// and whether the block frames are global (GlobalFrames below). --stats_only prints these
 // alone, without solving (run_scaling.py uses it on the real T-meshes, to set the families beside
 // them).
 //
@@ -45,9 +46,12 @@
 #include "absl/flags/flag.h"
 #include "absl/flags/parse.h"
 #include "core/arc_bundles.h"
+#include "core/arc_singularity.h"
 #include "core/consistency_matrix.h"
+#include "core/direction.h"
 #include "core/large_allocations.h"
 #include "core/mesh_stats.h"
+#include "core/parallel_classes.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
 #include "core/run_clock.h"
@@ -97,6 +101,41 @@ double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options,
 // The mesh's statistics as TSV columns: a header and a row, each starting with a tab. The counts
 // are `ispq stats --json`'s (core/mesh_stats.h); the largest subproblem is measured in bundles, the
 // size of its LP. Computed apart from the solve, so none of it is timed.
+// Whether the patch rotations carry every block's axes into three global axes, signs included:
+// then the nodes have per-axis potentials whose differences are the arc lengths (the flow form of
+// the bulk LP, results/assembly/README.md). Interior singular arcs break it, and so can a handle
+// whose transition turns an axis around (joint-hex has no interior singular arc and fails).
+bool GlobalFrames(const TMesh& mesh) {
+  std::vector<int32_t> parent(3 * static_cast<size_t>(mesh.num_blocks()));
+  std::vector<uint8_t> flip(parent.size(), 0);  // sign against the parent
+  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int32_t>(i);
+  auto find = [&](int32_t x) {
+    int sign = 0;
+    while (parent[x] != x) {
+      sign ^= flip[x];
+      x = parent[x];
+    }
+    return std::pair<int32_t, int>{x, sign};
+  };
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
+    const BlockId from = mesh.patch_block(p, 0), to = mesh.patch_block(p, 1);
+    if (from == kNoId || to == kNoId) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const Dir image = mesh.patch_rotation(p).Apply(MakeDir(axis, false));
+      const auto [x, sx] = find(3 * from + axis);
+      const auto [y, sy] = find(3 * to + AxisOf(image));
+      const int relative = IsNegative(image) ? 1 : 0;
+      if (x == y) {
+        if ((sx ^ sy) != relative) return false;
+      } else {
+        parent[y] = x;
+        flip[y] = static_cast<uint8_t>(sx ^ sy ^ relative);
+      }
+    }
+  }
+  return ParallelClasses(mesh).num_classes() == 3;
+}
+
 std::pair<std::string, std::string> MeshStatsColumns(const TMesh& mesh) {
   const MeshStats s = ComputeMeshStats(mesh);
   const ConsistencyMatrix consistency(mesh);
@@ -106,16 +145,22 @@ std::pair<std::string, std::string> MeshStatsColumns(const TMesh& mesh) {
   for (int i = 0; i < subproblems.num_subproblems(); ++i) {
     largest = std::max(largest, subproblems.bundles(i).size());
   }
+  // Boundary arcs marked singular are sharp edges, which turn no frame; interior ones do.
+  int interior_singular_arcs = 0;
+  for (ArcId a = 0; a < mesh.num_arcs(); ++a) {
+    interior_singular_arcs += mesh.arc_singular(a) != 0 && !ArcOnBoundary(mesh, a);
+  }
   const double arcs = s.arcs;
   std::ostringstream row;
   row << "\t" << s.blocks << "\t" << s.critical_entities << "\t" << s.critical_nodes << "\t"
       << s.critical_links << "\t" << s.critical_regions << "\t" << s.critical_arcs << "\t"
       << s.critical_entities / arcs << "\t" << s.critical_arcs / arcs << "\t" << s.bundles << "\t"
-      << arcs / s.bundles << "\t" << s.subproblems << "\t" << largest;
+      << arcs / s.bundles << "\t" << s.subproblems << "\t" << largest << "\t"
+      << interior_singular_arcs << "\t" << (GlobalFrames(mesh) ? 1 : 0);
   return {
       "\tblocks\tcritical_entities\tcritical_nodes\tcritical_links\tcritical_regions\t"
       "critical_arcs\tentities_per_arc\tcritical_arc_share\tbundles\tarcs_per_bundle\t"
-      "mesh_subproblems\tlargest_subproblem_bundles",
+      "mesh_subproblems\tlargest_subproblem_bundles\tinterior_singular_arcs\tglobal_frames",
       row.str()};
 }
 
