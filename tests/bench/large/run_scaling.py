@@ -7,7 +7,8 @@ assembly16, assembly50, assembly100 with about 0.16, 0.5 and 1.0 critical entiti
 every size, assembly_tmesh_generator.h), size and level (5, 25, 100) it generates the mesh once
 (cached in OUT/meshes), runs one quantization per process (ispq_scaling_run: CPU time in total and
 per phase, LP solves, objective, validity, time and memory at the first separating q, peak memory,
-and the mesh's statistics: critical entities and arcs, bundles, subproblems) and writes
+and the mesh's statistics: critical entities and arcs, bundles, subproblems, interior singular
+arcs, whether the block frames are global) and writes
 
   OUT/scaling.tsv       one row per run
   OUT/real_meshes.tsv   the same statistics for every real T-mesh under --real-meshes
