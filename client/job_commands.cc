@@ -7,8 +7,8 @@
 
 #include "absl/strings/str_format.h"
 #include "absl/time/time.h"
-#include "client/exit_codes.h"
 #include "client/announced_upload.h"
+#include "client/exit_codes.h"
 #include "client/job_output.h"
 #include "client/message_json.h"
 #include "client/quantize_input.h"

@@ -3,8 +3,8 @@
 
 #include <iostream>
 
-#include "client/exit_codes.h"
 #include "client/announced_upload.h"
+#include "client/exit_codes.h"
 #include "client/job_output.h"
 #include "client/progress_printer.h"
 #include "client/quantize_input.h"

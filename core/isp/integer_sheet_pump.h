@@ -23,11 +23,11 @@
 
 #include "absl/status/statusor.h"
 #include "core/isp/isp_tuning.h"
-#include "core/run_clock.h"
 #include "core/isp/sheet_lp.h"
 #include "core/quantization_progress.h"
 #include "core/quantize_options.h"
 #include "core/quantize_result.h"
+#include "core/run_clock.h"
 #include "core/separation_check.h"
 #include "core/separation_row.h"
 #include "core/solve_interrupter.h"

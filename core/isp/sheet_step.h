@@ -20,9 +20,9 @@
 #include "core/isp/inequality_rows.h"
 #include "core/isp/integer_sheet.h"
 #include "core/isp/isp_tuning.h"
-#include "core/run_clock.h"
 #include "core/isp/sheet_subproblem.h"
 #include "core/quantize_result.h"
+#include "core/run_clock.h"
 
 namespace ispq {
 

@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// Admission against the memory budget (server/memory/memory_budget.h). A claim that does not fit first
-// makes room by evicting what the server keeps only for later retrieval: finished jobs (oldest
-// ended first), then stored meshes (least recently used first). Only when nothing evictable is
-// left is it refused: RESOURCE_EXHAUSTED with a retry hint (server/jobs/retry_hint.h), or without one
-// when the claim is larger than the whole budget and could never fit. Refusals and evictions are
-// counted in the server metrics. Thread-safe.
+// Admission against the memory budget (server/memory/memory_budget.h). A claim that does not fit
+// first makes room by evicting what the server keeps only for later retrieval: finished jobs
+// (oldest ended first), then stored meshes (least recently used first). Only when nothing evictable
+// is left is it refused: RESOURCE_EXHAUSTED with a retry hint (server/jobs/retry_hint.h), or
+// without one when the claim is larger than the whole budget and could never fit. Refusals and
+// evictions are counted in the server metrics. Thread-safe.
 #ifndef ISPQ_SERVER_ADMISSION_MEMORY_ADMISSION_H_
 #define ISPQ_SERVER_ADMISSION_MEMORY_ADMISSION_H_
 

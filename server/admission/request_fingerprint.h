@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // A fingerprint of a request, to tell a retried SubmitJob (the same request again) from a
-// different request that reuses a request_id (server/admission/request_ids.h): the SHA-256 of the request's
-// deterministic serialization, computed while serializing without building the bytes.
+// different request that reuses a request_id (server/admission/request_ids.h): the SHA-256 of the
+// request's deterministic serialization, computed while serializing without building the bytes.
 #ifndef ISPQ_SERVER_ADMISSION_REQUEST_FINGERPRINT_H_
 #define ISPQ_SERVER_ADMISSION_REQUEST_FINGERPRINT_H_
 

@@ -6,9 +6,10 @@
 // is still being parsed and validated (its deadline passed and the client retried at once) waits
 // for the first call's outcome instead of racing it to create a second job. If the first call
 // fails, its waiters get its error and the id is free again (a later retry is a new attempt). An
-// id with a different request fingerprint (server/admission/request_fingerprint.h) is ALREADY_EXISTS. An id
-// is remembered as long as the server retains its job; forgotten entries are swept as the
-// table grows, so its size follows the retained jobs. Thread-safe; callbacks run without locks.
+// id with a different request fingerprint (server/admission/request_fingerprint.h) is
+// ALREADY_EXISTS. An id is remembered as long as the server retains its job; forgotten entries are
+// swept as the table grows, so its size follows the retained jobs. Thread-safe; callbacks run
+// without locks.
 #ifndef ISPQ_SERVER_ADMISSION_REQUEST_IDS_H_
 #define ISPQ_SERVER_ADMISSION_REQUEST_IDS_H_
 

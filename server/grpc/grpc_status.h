@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // The one place where the server's absl::Status becomes what a client sees: the grpc::Status
 // (the canonical codes are the same numbers in both libraries) and, for a status with a retry
-// hint (server/jobs/retry_hint.h), the `grpc-retry-pushback-ms` trailer of gRFC A6, which gRPC clients
-// with a retry policy honour.
+// hint (server/jobs/retry_hint.h), the `grpc-retry-pushback-ms` trailer of gRFC A6, which gRPC
+// clients with a retry policy honour.
 #ifndef ISPQ_SERVER_GRPC_GRPC_STATUS_H_
 #define ISPQ_SERVER_GRPC_GRPC_STATUS_H_
 

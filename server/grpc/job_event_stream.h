@@ -9,8 +9,8 @@
 // call: when the client cancels, disconnects or passes its deadline, the job is cancelled too.
 //
 // A Quantize stream exists before its job: the call is answered at once while its request is
-// admitted off gRPC's threads (server/admission/admission_pool.h), and the job is attached (or the call
-// rejected) when admission ends. The call is not finished before then, even when the client
+// admitted off gRPC's threads (server/admission/admission_pool.h), and the job is attached (or the
+// call rejected) when admission ends. The call is not finished before then, even when the client
 // cancels it, because admission still uses the call's context; a call that ended during
 // admission cancels its job as soon as it is attached.
 //

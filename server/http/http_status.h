@@ -3,8 +3,8 @@
 // google.api HTTP rules map gRPC codes (INVALID_ARGUMENT 400, UNAUTHENTICATED 401, NOT_FOUND
 // 404, RESOURCE_EXHAUSTED 429, UNAVAILABLE 503...), with a google.rpc.Status-like JSON body
 // {"code": <gRPC code number>, "status": "<gRPC code name>", "message": "..."} and, for a status
-// with a retry hint (server/jobs/retry_hint.h), a Retry-After header in whole seconds. Refusals of the
-// transport itself that gRPC has no code for (411, 413, 414, 415, 421, 431) carry their HTTP
+// with a retry hint (server/jobs/retry_hint.h), a Retry-After header in whole seconds. Refusals of
+// the transport itself that gRPC has no code for (411, 413, 414, 415, 421, 431) carry their HTTP
 // status with them (WithHttpStatus) and keep the same JSON body.
 #ifndef ISPQ_SERVER_HTTP_HTTP_STATUS_H_
 #define ISPQ_SERVER_HTTP_HTTP_STATUS_H_

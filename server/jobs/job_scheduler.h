@@ -3,11 +3,11 @@
 // the store that answers about them, cancellation, and the draining steps of graceful shutdown.
 //
 // With the in-memory store, jobs wait in the local bounded queue. With a shared store
-// (server/store/postgres/postgres_job_store.h), jobs submitted with SubmitJob wait in the store and the workers
-// of every replica claim them (server/jobs/job_claimer.h); only call-bound Quantize jobs use the local
-// queue, since they run where their call is. `max_queued_jobs` then bounds the jobs waiting in
-// the store for all replicas (checked before each submission, so concurrent submissions on
-// several replicas may pass it by a few).
+// (server/store/postgres/postgres_job_store.h), jobs submitted with SubmitJob wait in the store and
+// the workers of every replica claim them (server/jobs/job_claimer.h); only call-bound Quantize
+// jobs use the local queue, since they run where their call is. `max_queued_jobs` then bounds the
+// jobs waiting in the store for all replicas (checked before each submission, so concurrent
+// submissions on several replicas may pass it by a few).
 //
 // Ownership: the scheduler owns the store, the queue, the claimer and the pool; jobs are shared
 // with the streams that watch them. Destruction closes the queue and joins the workers.
@@ -51,8 +51,8 @@ class JobScheduler {
   // Creates the job, records it in the store and queues it. `request` is the serialized request
   // (needed by a shared store only, see shared()). Returns the job, or with a shared store the
   // job an earlier request with the same request_id created (server/store/job_store.h).
-  // RESOURCE_EXHAUSTED (with a retry hint, see RetryHint and server/jobs/retry_hint.h) when the queue
-  // is full; UNAVAILABLE once shutdown has begun or when the store cannot be reached.
+  // RESOURCE_EXHAUSTED (with a retry hint, see RetryHint and server/jobs/retry_hint.h) when the
+  // queue is full; UNAVAILABLE once shutdown has begun or when the store cannot be reached.
   absl::StatusOr<std::shared_ptr<Job>> Submit(JobSpec spec, bool bound_to_call,
                                               const std::string& request = "");
   std::shared_ptr<Job> Find(const std::string& id);

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // A fixed number of worker threads, each taking one job at a time from the queue and running it
-// to its end (server/jobs/job_runner.h), from a JobSource (server/jobs/job_source.h). A job never uses more
-// than its one worker thread, so the pool's size is the number of solves that run at once. Threads
-// exit when the queue is closed and empty; the destructor joins them.
+// to its end (server/jobs/job_runner.h), from a JobSource (server/jobs/job_source.h). A job never
+// uses more than its one worker thread, so the pool's size is the number of solves that run at
+// once. Threads exit when the queue is closed and empty; the destructor joins them.
 #ifndef ISPQ_SERVER_JOBS_WORKER_POOL_H_
 #define ISPQ_SERVER_JOBS_WORKER_POOL_H_
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// How large the memory budget is (server/memory/memory_budget.h): the --max_memory_bytes flag, which
-// takes sizes such as "512MiB", and its default, derived from the memory the process may use.
+// How large the memory budget is (server/memory/memory_budget.h): the --max_memory_bytes flag,
+// which takes sizes such as "512MiB", and its default, derived from the memory the process may use.
 //
 // The default is three quarters of the container's limit (cgroup v2 memory.max or cgroup v1
 // memory.limit_in_bytes of the process's own cgroup, or of its ancestors) when there is one, else

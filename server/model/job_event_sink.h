@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Where a job reports what happens to it so that it outlives the process: a durable job store
-// (server/store/postgres/postgres_job_store.h) records every state change and event of the jobs this replica
-// creates or runs, so that every replica can answer about them and watch them.
+// (server/store/postgres/postgres_job_store.h) records every state change and event of the jobs
+// this replica creates or runs, so that every replica can answer about them and watch them.
 //
 // The in-memory store needs none: it holds the job objects themselves.
 #ifndef ISPQ_SERVER_MODEL_JOB_EVENT_SINK_H_

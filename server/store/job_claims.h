@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
-// Jobs queued in a shared store (server/store/postgres/postgres_job_store.h), claimed by the workers of any
-// replica (server/jobs/job_claimer.h) under a lease that the claiming replica renews. A job whose
-// lease expires (its replica died or stalled) is claimable again and is run from the start by
-// whoever claims it: quantization is deterministic, so the result is the same. Each claim has
-// an attempt number, and everything done under a claim (recording, giving back, failing) is
-// fenced by it: a replica whose claim was superseded changes nothing.
+// Jobs queued in a shared store (server/store/postgres/postgres_job_store.h), claimed by the
+// workers of any replica (server/jobs/job_claimer.h) under a lease that the claiming replica
+// renews. A job whose lease expires (its replica died or stalled) is claimable again and is run
+// from the start by whoever claims it: quantization is deterministic, so the result is the same.
+// Each claim has an attempt number, and everything done under a claim (recording, giving back,
+// failing) is fenced by it: a replica whose claim was superseded changes nothing.
 #ifndef ISPQ_SERVER_STORE_JOB_CLAIMS_H_
 #define ISPQ_SERVER_STORE_JOB_CLAIMS_H_
 

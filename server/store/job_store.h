@@ -5,7 +5,8 @@
 //
 //   * InMemoryJobStore (server/store/in_memory_job_store.h), the default: the job objects of this
 //     process, lost when it exits.
-//   * PostgresJobStore (server/store/postgres/postgres_job_store.h): jobs and their kept events in PostgreSQL,
+//   * PostgresJobStore (server/store/postgres/postgres_job_store.h): jobs and their kept events in
+//   PostgreSQL,
 //     shared by every replica using the same database; jobs are claimed from it by any replica's
 //     workers under a lease (server/jobs/job_claimer.h).
 //

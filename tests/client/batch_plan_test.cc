@@ -84,7 +84,8 @@ TEST(BatchPlanTest, TwoInputsWritingTheSameResultFileAreRefused) {
   const absl::StatusOr<std::vector<BatchJob>> jobs =
       PlanBatch({first, second}, {AtLevel(5)}, "out");
   EXPECT_EQ(jobs.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_THAT(std::string(jobs.status().message()), HasSubstr("both would write out/part.L5.result.json"));
+  EXPECT_THAT(std::string(jobs.status().message()),
+              HasSubstr("both would write out/part.L5.result.json"));
 }
 
 TEST(BatchPlanTest, ScalingLabels) {

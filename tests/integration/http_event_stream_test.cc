@@ -52,8 +52,8 @@ void ExpectSameEvents(const std::vector<v1::QuantizeEvent>& sse,
 }
 
 // Two readers of a running job: the log keeps only the latest progress and intermediate snapshot
-// (server/model/job_event_log.h), so a reader that falls behind, as one may on a loaded machine, skips
-// superseded snapshots. Every event both received is the same, and each skipped one is a
+// (server/model/job_event_log.h), so a reader that falls behind, as one may on a loaded machine,
+// skips superseded snapshots. Every event both received is the same, and each skipped one is a
 // snapshot; the accepted event and the result reach both.
 void ExpectAgreeingLiveEvents(const std::vector<v1::QuantizeEvent>& sse,
                               const std::vector<v1::QuantizeEvent>& grpc) {

@@ -17,8 +17,8 @@
 #include "gtest/gtest.h"
 #include "ispq/v1/service.grpc.pb.h"
 #include "tests/integration/service_test_support.h"
-#include "tests/support/tmesh_copies.h"
 #include "tests/support/run_command.h"
+#include "tests/support/tmesh_copies.h"
 
 namespace ispq::testing {
 namespace {

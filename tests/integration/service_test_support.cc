@@ -14,8 +14,8 @@
 #include "core/proto/tmesh_from_proto.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
-#include "tests/support/tmesh_copies.h"
 #include "tests/support/test_data.h"
+#include "tests/support/tmesh_copies.h"
 
 namespace ispq::testing {
 namespace {

@@ -51,15 +51,14 @@ template <typename Function>
 Function Real(const char* mangled) {
   void* real = dlsym(RTLD_NEXT, mangled);
   if (real == nullptr) {
-    std::fprintf(stderr, "absl_sync_annotations: no %s in the libraries: %s\n", mangled,
-                 dlerror());
+    std::fprintf(stderr, "absl_sync_annotations: no %s in the libraries: %s\n", mangled, dlerror());
     std::abort();
   }
   return reinterpret_cast<Function>(real);
 }
 
-#define ISPQ_REAL(type, mangled)                            \
-  static const auto real = Real<type>(mangled);             \
+#define ISPQ_REAL(type, mangled)                \
+  static const auto real = Real<type>(mangled); \
   (void)0
 
 constexpr unsigned kRead = __tsan_mutex_read_lock;
@@ -234,8 +233,7 @@ bool Mutex::AwaitWithTimeout(const Condition& cond, Duration timeout) {
 }
 
 bool Mutex::AwaitWithDeadline(const Condition& cond, Time deadline) {
-  ISPQ_REAL(WhenDeadline,
-            "_ZN4absl7debian35Mutex17AwaitWithDeadlineERKNS0_9ConditionENS0_4TimeE");
+  ISPQ_REAL(WhenDeadline, "_ZN4absl7debian35Mutex17AwaitWithDeadlineERKNS0_9ConditionENS0_4TimeE");
   return ReleasedDuring(this, [&] { return real(this, cond, deadline); });
 }
 

@@ -18,7 +18,8 @@
 //
 // Errors never escape as exceptions: an operation that still fails is UNAVAILABLE with the
 // database's message, which callers pass on to clients as "retry later". A write cut by its
-// deadline may or may not have committed; callers write idempotently (server/store/postgres/postgres_job_rows.h).
+// deadline may or may not have committed; callers write idempotently
+// (server/store/postgres/postgres_job_rows.h).
 #ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_CONNECTIONS_H_
 #define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_CONNECTIONS_H_
 

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// Reading and writing the rows of one job in the PostgreSQL job store (server/store/postgres/postgres_schema.h),
-// inside a transaction the caller owns: the pieces that the store, its recorder and its claims
-// share.
+// Reading and writing the rows of one job in the PostgreSQL job store
+// (server/store/postgres/postgres_schema.h), inside a transaction the caller owns: the pieces that
+// the store, its recorder and its claims share.
 #ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_ROWS_H_
 #define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_JOB_ROWS_H_
 

@@ -8,25 +8,26 @@
 //   * Jobs are not queued in one process: the workers of any replica claim them
 //     (JobClaims, `FOR UPDATE SKIP LOCKED`) under a lease of `lease` that a thread of the store
 //     renews every third of it for the jobs this replica still runs or has yet to record the
-//     end of (server/store/postgres/postgres_job_recorder.h). A job whose lease expired (its replica died or
-//     stalled) is claimed again and run from the start elsewhere, with its event numbers
-//     continuing; every write is fenced by the claim's attempt number, so the replica that lost
-//     the lease can no longer write anything. Call-bound jobs (Quantize) are leased to their
+//     end of (server/store/postgres/postgres_job_recorder.h). A job whose lease expired (its
+//     replica died or stalled) is claimed again and run from the start elsewhere, with its event
+//     numbers continuing; every write is fenced by the claim's attempt number, so the replica that
+//     lost the lease can no longer write anything. Call-bound jobs (Quantize) are leased to their
 //     replica at once and run there only; if that replica stops renewing for a whole lease
 //     beyond the expiry, they end UNAVAILABLE (their call died with it).
 //   * Find and List answer with mirrors (Job::Mirror) built from the rows. A mirror that someone
 //     holds (a watcher) is kept up to date: every change of a job is NOTIFYed, and a listener
-//     thread (server/store/postgres/postgres_listener.h) reloads the mirrors of changed jobs, which wake their
-//     watchers. So a WatchJob on any replica streams the job live.
+//     thread (server/store/postgres/postgres_listener.h) reloads the mirrors of changed jobs, which
+//     wake their watchers. So a WatchJob on any replica streams the job live.
 //   * Cancel ends a job still queued in the database at once and otherwise marks it; the
 //     replica running it hears of it (NOTIFY) and interrupts its run.
 //   * Retention as in memory: finished jobs beyond the count or the age are deleted, when a job
 //     ends and periodically. EvictOldestFinished is not used by the memory budget here: retained
 //     results live in the database, not in this process.
-//   * Faults: every operation is bounded in time (server/store/postgres/postgres_connections.h); the recorder
+//   * Faults: every operation is bounded in time (server/store/postgres/postgres_connections.h);
+//   the recorder
 //     retries what it could not write; reachable() says whether the database answers
-//     (server/store/postgres/postgres_reachability.h) for readiness. Failures are logged at most every 10 s
-//     per kind.
+//     (server/store/postgres/postgres_reachability.h) for readiness. Failures are logged at most
+//     every 10 s per kind.
 //
 // Ownership: the store owns its connection pool (shared with the recorder that the jobs it
 // records hold), its recorder's writer, its listener, its probe and its lease thread; mirrors
@@ -104,7 +105,8 @@ class PostgresJobStore final : public JobStore, public JobClaims {
   absl::Duration poll_interval() const override;
 
   const std::string& replica() const { return options_.replica; }
-  // The store's connections, shared with the mesh store (server/store/postgres/postgres_mesh_store.h).
+  // The store's connections, shared with the mesh store
+  // (server/store/postgres/postgres_mesh_store.h).
   const std::shared_ptr<PostgresConnections>& connections() const { return connections_; }
 
  private:

@@ -13,7 +13,8 @@
 //                    lease (owner replica, expiry) and whether cancellation was requested;
 //                    `ordinal` orders it for listing.
 //   ispq_job_events  the kept events of each job, at most one per kind (accepted, latest
-//                    progress, latest intermediate, terminal): the bound of server/model/job_event_log.h.
+//                    progress, latest intermediate, terminal): the bound of
+//                    server/model/job_event_log.h.
 //   ispq_meshes      stored meshes (CreateMesh): the serialized ispq.v1.TMesh and its stats.
 #ifndef ISPQ_SERVER_STORE_POSTGRES_POSTGRES_SCHEMA_H_
 #define ISPQ_SERVER_STORE_POSTGRES_POSTGRES_SCHEMA_H_

@@ -3,13 +3,14 @@
 // proven optima on five small real meshes and on grid meshes with brute-force optima, never worse
 // than ISP, improvements streamed as they are found, interruption, and the loop's variants. Every
 // result is checked by the validator.
+#include "core/exact/exact_quantizer.h"
+
 #include <limits>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/exact/cbc_milp_solver.h"
-#include "core/exact/exact_quantizer.h"
 #include "core/isp/clp_sheet_lp.h"
 #include "core/isp/integer_sheet_pump.h"
 #include "core/isp/isp_tuning.h"

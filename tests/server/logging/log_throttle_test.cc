@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// LogThrottle (server/logging/log_throttle.h): one line per interval, and the count of those held back.
+// LogThrottle (server/logging/log_throttle.h): one line per interval, and the count of those held
+// back.
 #include "server/logging/log_throttle.h"
 
 #include "gtest/gtest.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// The job's state machine on its own (server/model/job.h): transitions, the terminal event, cancellation
-// before and during a run, the stream protocol and watchers. The service exercises the same job
-// end to end in tests/integration; these cases pin each transition without a server.
+// The job's state machine on its own (server/model/job.h): transitions, the terminal event,
+// cancellation before and during a run, the stream protocol and watchers. The service exercises the
+// same job end to end in tests/integration; these cases pin each transition without a server.
 #include "server/model/job.h"
 
 #include <memory>

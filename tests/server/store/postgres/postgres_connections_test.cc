@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// PostgresConnections (server/store/postgres/postgres_connections.h): the connection parameters it adds to a URI
-// (a bound on connecting and keepalives, never overriding what the operator wrote) and the bounds
-// it sets on the server's side of its sessions.
+// PostgresConnections (server/store/postgres/postgres_connections.h): the connection parameters it
+// adds to a URI (a bound on connecting and keepalives, never overriding what the operator wrote)
+// and the bounds it sets on the server's side of its sessions.
 #include "server/store/postgres/postgres_connections.h"
 
 #include "gtest/gtest.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
-// SocketDeadlines (server/store/postgres/socket_deadlines.h): a blocking read on a socket whose peer never
-// answers returns once its deadline passes, and a guard gone before its deadline leaves the
-// socket alone.
+// SocketDeadlines (server/store/postgres/socket_deadlines.h): a blocking read on a socket whose
+// peer never answers returns once its deadline passes, and a guard gone before its deadline leaves
+// the socket alone.
 #include "server/store/postgres/socket_deadlines.h"
 
 #include <sys/socket.h>
