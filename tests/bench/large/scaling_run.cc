@@ -49,9 +49,9 @@
 #include "core/arc_singularity.h"
 #include "core/consistency_matrix.h"
 #include "core/direction.h"
+#include "core/disjoint_sets.h"
 #include "core/large_allocations.h"
 #include "core/mesh_stats.h"
-#include "core/parallel_classes.h"
 #include "core/quantization_validator.h"
 #include "core/quantizer.h"
 #include "core/run_clock.h"
@@ -98,44 +98,36 @@ double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options,
   return peak;
 }
 
-// The mesh's statistics as TSV columns: a header and a row, each starting with a tab. The counts
-// are `ispq stats --json`'s (core/mesh_stats.h); the largest subproblem is measured in bundles, the
-// size of its LP. Computed apart from the solve, so none of it is timed.
 // Whether the patch rotations carry every block's axes into three global axes, signs included:
 // then the nodes have per-axis potentials whose differences are the arc lengths (the flow form of
 // the bulk LP, results/assembly/README.md). Interior singular arcs break it, and so can a handle
 // whose transition turns an axis around (joint-hex has no interior singular arc and fails).
+// Each block's six directions are elements, and a patch joins each direction of one block with
+// its image under the patch's rotation in the other.
 bool GlobalFrames(const TMesh& mesh) {
-  std::vector<int32_t> parent(3 * static_cast<size_t>(mesh.num_blocks()));
-  std::vector<uint8_t> flip(parent.size(), 0);  // sign against the parent
-  for (size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int32_t>(i);
-  auto find = [&](int32_t x) {
-    int sign = 0;
-    while (parent[x] != x) {
-      sign ^= flip[x];
-      x = parent[x];
-    }
-    return std::pair<int32_t, int>{x, sign};
-  };
+  const auto copy = [](BlockId b, Dir d) { return 6 * b + DirIndex(d); };
+  DisjointSets sets(6 * mesh.num_blocks());
   for (PatchId p = 0; p < mesh.num_patches(); ++p) {
     const BlockId from = mesh.patch_block(p, 0), to = mesh.patch_block(p, 1);
     if (from == kNoId || to == kNoId) continue;
-    for (int axis = 0; axis < 3; ++axis) {
-      const Dir image = mesh.patch_rotation(p).Apply(MakeDir(axis, false));
-      const auto [x, sx] = find(3 * from + axis);
-      const auto [y, sy] = find(3 * to + AxisOf(image));
-      const int relative = IsNegative(image) ? 1 : 0;
-      if (x == y) {
-        if ((sx ^ sy) != relative) return false;
-      } else {
-        parent[y] = x;
-        flip[y] = static_cast<uint8_t>(sx ^ sy ^ relative);
+    for (const Dir d : kAllDirs)
+      sets.Join(copy(from, d), copy(to, mesh.patch_rotation(p).Apply(d)));
+  }
+  // No block may find two of its six directions in one set (an axis turned into another, or into
+  // its own opposite); parts that share no patch each keep frames of their own.
+  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+    for (const Dir d : kAllDirs) {
+      for (const Dir e : kAllDirs) {
+        if (d != e && sets.Find(copy(b, d)) == sets.Find(copy(b, e))) return false;
       }
     }
   }
-  return ParallelClasses(mesh).num_classes() == 3;
+  return true;
 }
 
+// The mesh's statistics as TSV columns: a header and a row, each starting with a tab. The counts
+// are `ispq stats --json`'s (core/mesh_stats.h); the largest subproblem is measured in bundles, the
+// size of its LP. Computed apart from the solve, so none of it is timed.
 std::pair<std::string, std::string> MeshStatsColumns(const TMesh& mesh) {
   const MeshStats s = ComputeMeshStats(mesh);
   const ConsistencyMatrix consistency(mesh);
