@@ -35,6 +35,25 @@ bool IsElement(uint32_t tag) {
          WireFormatLite::GetTagWireType(tag) == WireFormatLite::WIRETYPE_LENGTH_DELIMITED;
 }
 
+// The next field's tag in `*tag`, 0 once the bytes end; false for a tag protobuf's parser
+// refuses: a varint that does not fit in 32 bits (CodedInputStream::ReadTag would keep its low
+// bits and read another, valid-looking field there) or one naming field 0.
+bool ReadTag(CodedInputStream& input, uint32_t* tag) {
+  const void* data = nullptr;
+  int size = 0;
+  if (!input.GetDirectBufferPointer(&data, &size)) {
+    *tag = 0;
+    return true;
+  }
+  uint64_t value = 0;
+  if (!input.ReadVarint64(&value) || value > UINT32_MAX ||
+      WireFormatLite::GetTagFieldNumber(static_cast<uint32_t>(value)) == 0) {
+    return false;
+  }
+  *tag = static_cast<uint32_t>(value);
+  return true;
+}
+
 absl::Status NotATMesh(const char* what) {
   return InvalidArgument("the bytes are not a binary T-mesh (ispq.v1.TMesh): ", what);
 }
@@ -54,7 +73,10 @@ absl::StatusOr<Scan> ScanFields(google::protobuf::io::ZeroCopyInputStream& bytes
     CodedInputStream input(&bytes);
     CodedOutputStream header(&header_stream);  // flushed into the string when it goes
     int last_element_field = 0;
-    while (const uint32_t tag = input.ReadTag()) {
+    uint32_t tag = 0;
+    while (true) {
+      if (!ReadTag(input, &tag)) return NotATMesh("a field's tag is malformed");
+      if (tag == 0) break;
       if (!IsElement(tag)) {
         if (!WireFormatLite::SkipField(&input, tag, &header)) {
           return NotATMesh("a field is cut off");
@@ -76,7 +98,6 @@ absl::StatusOr<Scan> ScanFields(google::protobuf::io::ZeroCopyInputStream& bytes
         return InvalidArgument("a T-mesh has at most 2^30 - 1 of each element");
       }
     }
-    if (!input.ConsumedEntireMessage()) return NotATMesh("it ends inside a field");
   }
   return scan;
 }
@@ -99,7 +120,10 @@ absl::Status HandOverElements(google::protobuf::io::ZeroCopyInputStream& bytes,
   v1::Arc arc;
   v1::Patch patch;
   v1::Block block;
-  while (const uint32_t tag = input.ReadTag()) {
+  uint32_t tag = 0;
+  while (true) {
+    if (!ReadTag(input, &tag)) return NotATMesh("a field's tag is malformed");
+    if (tag == 0) break;
     if (!IsElement(tag)) {
       if (!WireFormatLite::SkipField(&input, tag)) return NotATMesh("a field is cut off");
       continue;

@@ -126,6 +126,25 @@ TEST(TMeshFromWireTest, AnElementFieldOfAnotherWireTypeIsIgnoredAsTheParserDoes)
   testing::ExpectSameTMesh(*whole, *streamed);
 }
 
+// A tag whose varint does not fit in 32 bits is refused by protobuf's parser; read 32 bits at a
+// time it would name another, valid field (found by tmesh_wire_fuzzer: a mesh with such a tag
+// appended decoded here). Field 0 is refused too.
+TEST(TMeshFromWireTest, TagsTheParserRefusesAreRefused) {
+  const v1::TMesh proto =
+      testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
+  // A tag of 36 bits whose low 32 name field 2^29 - 1 as a varint, with value 1; field 0.
+  for (const std::string& bad :
+       {std::string("\xf8\xff\xff\xff\xff\x01\x01", 7), std::string("\x02\x00", 2)}) {
+    const Bytes bytes{.bytes = proto.SerializeAsString() + bad};
+    v1::TMesh parsed;
+    ASSERT_FALSE(parsed.ParseFromString(bytes.bytes));
+    const absl::StatusOr<TMesh> result = TMeshFromWire(bytes.reader());
+    ASSERT_FALSE(result.ok());
+    EXPECT_EQ(result.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_THAT(std::string(result.status().message()), HasSubstr("not a binary T-mesh"));
+  }
+}
+
 TEST(TMeshFromWireTest, BytesThatAreNoTMeshAreRefusedSayingSo) {
   const v1::TMesh proto =
       testing::LoadProtoOrDie(testing::RealTMeshPath("hex-me/s07c_notch.tmesh.json"));
