@@ -36,8 +36,9 @@ bool IsElement(uint32_t tag) {
 }
 
 // The next field's tag in `*tag`, 0 once the bytes end; false for a tag protobuf's parser
-// refuses: a varint that does not fit in 32 bits (CodedInputStream::ReadTag would keep its low
-// bits and read another, valid-looking field there) or one naming field 0.
+// refuses: a varint longer than the 5 bytes of a 32-bit one (CodedInputStream::ReadTag would keep
+// its low bits and read another, valid-looking field there) or one naming field 0. Like the
+// parser, a 5-byte tag keeps its low 32 bits.
 bool ReadTag(CodedInputStream& input, uint32_t* tag) {
   const void* data = nullptr;
   int size = 0;
@@ -46,7 +47,8 @@ bool ReadTag(CodedInputStream& input, uint32_t* tag) {
     return true;
   }
   uint64_t value = 0;
-  if (!input.ReadVarint64(&value) || value > UINT32_MAX ||
+  const int start = input.CurrentPosition();
+  if (!input.ReadVarint64(&value) || input.CurrentPosition() - start > 5 ||
       WireFormatLite::GetTagFieldNumber(static_cast<uint32_t>(value)) == 0) {
     return false;
   }
