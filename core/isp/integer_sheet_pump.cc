@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/arc_bundles.h"
+#include "core/bundle_potentials.h"
 #include "core/consistency_matrix.h"
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/greedy_queue.h"
@@ -90,6 +91,12 @@ class IntegerSheetPump {
         queue_(quantization_, rows_.store()),
         thorough_queue_(quantization_, rows_.store()),
         coverage_(quantization_.num_bundles()) {
+    if (tuning.bulk_descent_as_flow && bundles_.num_bundles() >= tuning.bulk_descent_min_bundles) {
+      potentials_ = BundlePotentials::Compute(mesh, consistency_, bundles_);
+      if (potentials_.has_value()) {
+        subproblems_.SolveUnitMovesAsFlows(&*potentials_, [&clock] { return clock.ShouldStop(); });
+      }
+    }
     if (start.has_value()) {
       has_valid_ = true;
       best_valid_objective_ = start->objective;
@@ -159,7 +166,8 @@ class IntegerSheetPump {
   const ConsistencyMatrix& consistency_;
   const ArcBundles& bundles_;
   BundleQuantization quantization_;
-  const Subproblems initial_subproblems_;  // before separation rows couple any
+  const Subproblems initial_subproblems_;       // before separation rows couple any
+  std::optional<BundlePotentials> potentials_;  // for the bulk descent's flows, where they exist
   SeparationRows rows_;
   SubproblemSet subproblems_;
   SeparationCheck& separation_;

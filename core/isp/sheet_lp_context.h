@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "core/bundle_potentials.h"
 #include "core/consistency_matrix.h"
 #include "core/flat_lists.h"
 #include "core/isp/bundle_quantization.h"
@@ -39,6 +40,11 @@ struct SheetLpContext {
   // Upper bound of every free column for LPs that want one (core/isp/sheet_subproblem.h). Real
   // sheets move a bundle by a few units.
   double column_cap = 1024;
+  // Where every consistent q is a potential difference (core/bundle_potentials.h), the bulk
+  // descent's LPs are first solved as min-cost flows (core/isp/sheet_network.h); null: by the
+  // LP alone. The flows ask `should_stop` as the LPs ask theirs.
+  const BundlePotentials* potentials = nullptr;
+  LpStopCheck should_stop;
 };
 
 }  // namespace ispq

@@ -55,9 +55,11 @@ absl::StatusOr<bool> SheetStepFinder::Find(SheetSubproblem& subproblem, const Sh
 absl::StatusOr<bool> SheetStepFinder::SolveRational(SheetSubproblem& subproblem,
                                                     const SheetRequest& request) {
   const int64_t calls = subproblem.solver_calls();
+  const int64_t flow_solves = subproblem.flow_solves();
   const SheetLpCounters before = subproblem.lp_counters();
   absl::StatusOr<bool> feasible = subproblem.Solve(request, &rational_);
   stats_.lp_solves += subproblem.solver_calls() - calls;
+  stats_.flow_solves += subproblem.flow_solves() - flow_solves;
   const SheetLpCounters used = subproblem.lp_counters() - before;
   stats_.lp_pivots += used.pivots;
   stats_.lp_degenerate_pivots += used.degenerate_pivots;

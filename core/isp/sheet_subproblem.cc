@@ -112,21 +112,22 @@ void SheetSubproblem::PushRowBounds(int32_t r) {
   lp_->SetRowBounds(lp_row, RowLowerBound(r), kLpInfinity);
 }
 
-void SheetSubproblem::PushWeights(BundleId b) {
+BundleWeights SheetSubproblem::WeightsOf(BundleId b) const {
   const BundleQuantization& x = *context_->quantization;
   const double value = static_cast<double>(x.value(b));
-  BundleWeights w;
   switch (weights_) {
     case WeightScheme::kTiered:
-      w = BundleSheetWeights(x.targets(b), value, context_->num_arcs);
-      break;
+      return BundleSheetWeights(x.targets(b), value, context_->num_arcs);
     case WeightScheme::kMarginalCost:
-      w = BundleMarginalWeights(x.targets(b), value, 1e-3);
-      break;
+      return BundleMarginalWeights(x.targets(b), value, 1e-3);
     case WeightScheme::kUnitCost:
-      w = BundleUnitCosts(x.targets(b), value);
-      break;
+      return BundleUnitCosts(x.targets(b), value);
   }
+  return {0, 0};
+}
+
+void SheetSubproblem::PushWeights(BundleId b) {
+  const BundleWeights w = WeightsOf(b);
   const int32_t i = context_->local_index_of_bundle[b];
   lp_->SetObjectiveCoefficient(2 * i, w.inflate);
   lp_->SetObjectiveCoefficient(2 * i + 1, w.deflate);
@@ -156,6 +157,9 @@ void SheetSubproblem::SetMode(bool allow_inflation, bool allow_deflation) {
 absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, RationalSheet* sheet) {
   PushPendingEdits(request.weights);
   if (request.unit_moves) return SolveUnitMoves(request, sheet);
+  if (const std::optional<bool> answered = SolveAsFlow(request, kLpInfinity, sheet)) {
+    return *answered;
+  }
   if (!SetRequestBounds(request)) return false;
   if (context_->refute_by_propagation && infeasibility_.Refutes(request)) {
     ++refuted_requests_;
@@ -181,8 +185,37 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
   return uncapped_optimal;
 }
 
+std::optional<bool> SheetSubproblem::SolveAsFlow(const SheetRequest& request, double bound,
+                                                 RationalSheet* sheet) {
+  if (context_->potentials == nullptr || request.root != kNoId || !request.blocked.empty() ||
+      !request.fixed.empty()) {
+    return std::nullopt;
+  }
+  if (network_ == nullptr) {
+    network_ = std::make_unique<SheetNetwork>(
+        *context_->potentials, bundles_, static_cast<int>(context_->local_index_of_bundle.size()));
+  }
+  network_weights_.resize(bundles_.size());
+  for (size_t i = 0; i < bundles_.size(); ++i) network_weights_[i] = WeightsOf(bundles_[i]);
+  const SheetNetwork::Outcome outcome = network_->Solve(
+      network_weights_, request.allow_inflation ? bound : 0, request.allow_deflation ? bound : 0,
+      *context_->rows, rows_, context_->should_stop, &moves_);
+  if (outcome == SheetNetwork::Outcome::kUnanswered) return std::nullopt;
+  ++solver_calls_;
+  ++flow_solves_;
+  if (outcome != SheetNetwork::Outcome::kOptimal) return false;
+  sheet->bundles.clear();
+  sheet->values.clear();
+  for (const auto& [b, move] : moves_) {
+    sheet->bundles.push_back(b);
+    sheet->values.push_back(static_cast<double>(move));
+  }
+  return true;
+}
+
 absl::StatusOr<bool> SheetSubproblem::SolveUnitMoves(const SheetRequest& request,
                                                      RationalSheet* sheet) {
+  if (const std::optional<bool> answered = SolveAsFlow(request, 1, sheet)) return *answered;
   // The box of one unit is the request itself, not a cap that could cut off an answer: no repeat
   // without it. Every column pair is reset twice, O(bundles), which the descent's few solves
   // over the whole subproblem can afford.

@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -40,7 +41,9 @@
 #include "core/isp/sheet_infeasibility.h"
 #include "core/isp/sheet_lp.h"
 #include "core/isp/sheet_lp_context.h"
+#include "core/isp/sheet_network.h"
 #include "core/isp/sheet_request.h"
+#include "core/isp/sheet_weights.h"
 
 namespace ispq {
 
@@ -79,6 +82,8 @@ class SheetSubproblem {
   // What the LP back ends of this subproblem did in its solves (its LP may have been rebuilt).
   const SheetLpCounters& lp_counters() const { return lp_counters_; }
   int64_t uncapped_solves() const { return uncapped_solves_; }
+  // Of the solver runs, requests for unit moves that a flow answered (SheetLpContext::potentials).
+  int64_t flow_solves() const { return flow_solves_; }
   int64_t refuted_requests() const { return refuted_requests_; }
 
   // Whether an integer sheet over these bundles satisfies every consistency row exactly.
@@ -97,6 +102,11 @@ class SheetSubproblem {
   bool SetRequestBounds(const SheetRequest& request);
   // A request for unit moves (SheetRequest::unit_moves): every column boxed at one unit.
   absl::StatusOr<bool> SolveUnitMoves(const SheetRequest& request, RationalSheet* sheet);
+  // A request without a root as a flow (core/isp/sheet_network.h), every move within
+  // -bound..bound; nullopt if the flow gives no answer and the LP must.
+  std::optional<bool> SolveAsFlow(const SheetRequest& request, double bound, RationalSheet* sheet);
+  // Bundle b's weights in the current scheme.
+  BundleWeights WeightsOf(BundleId b) const;
   // Runs the solver and counts what it did.
   absl::StatusOr<LpOutcome> RunSolver();
   // Reads the last solution into `sheet`; returns whether some column of it sits at the cap.
@@ -115,6 +125,9 @@ class SheetSubproblem {
   std::vector<int32_t> rows_;
   FlatLists<int32_t> equalities_of_bundle_;  // by local index: positions in equalities_
   std::unique_ptr<SheetLp> lp_;
+  std::unique_ptr<SheetNetwork> network_;            // made by the first request for unit moves
+  std::vector<BundleWeights> network_weights_;       // scratch of SolveAsFlow
+  std::vector<std::pair<BundleId, int64_t>> moves_;  // scratch of SolveAsFlow
   SheetInfeasibility infeasibility_;
 
   std::vector<BundleId> dirty_bundles_;
@@ -134,6 +147,7 @@ class SheetSubproblem {
   SheetLpCounters lp_counters_;
   int64_t uncapped_solves_ = 0;
   int64_t refuted_requests_ = 0;
+  int64_t flow_solves_ = 0;
 };
 
 }  // namespace ispq

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/arc_bundles.h"
@@ -55,6 +56,12 @@ class SubproblemSet {
   void Attach(std::span<const int32_t> new_rows);
   // Adds rows over the bundles of subproblem `id` alone to its LP.
   void AttachTo(int32_t id, std::span<const int32_t> new_rows);
+  // From now on the bulk descent's LPs are first solved as flows over these potentials
+  // (SheetLpContext::potentials), stopped by `should_stop`.
+  void SolveUnitMovesAsFlows(const BundlePotentials* potentials, LpStopCheck should_stop) {
+    context_.potentials = potentials;
+    context_.should_stop = std::move(should_stop);
+  }
 
  private:
   void BuildEqualities(const ConsistencyMatrix& consistency, const ArcBundles& bundles,

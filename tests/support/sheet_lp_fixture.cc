@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "core/block_extents.h"
+#include "core/invariant.h"
 #include "core/isp/clp_sheet_lp.h"
 
 namespace ispq::testing {
@@ -30,6 +31,11 @@ SheetLpFixture::SheetLpFixture(const TMesh& mesh, double scaling,
   context_.new_lp = options.new_lp ? options.new_lp : ClpSheetLpFactory();
   context_.local_index_of_bundle.assign(bundles_.num_bundles(), kNoId);
   context_.has_floor.assign(bundles_.num_bundles(), 0);
+  if (options.flows) {
+    potentials_ = BundlePotentials::Compute(mesh, consistency_, bundles_);
+    ISPQ_RELEASE_INVARIANT(potentials_.has_value(), "a fixture with flows needs potentials");
+    context_.potentials = &*potentials_;
+  }
   std::vector<int32_t> row_ids;
   if (options.extent_rows) {
     for (BlockId b = 0; b < mesh.num_blocks(); ++b) {

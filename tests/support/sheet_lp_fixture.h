@@ -7,9 +7,11 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/arc_bundles.h"
+#include "core/bundle_potentials.h"
 #include "core/consistency_matrix.h"
 #include "core/isp/bundle_quantization.h"
 #include "core/isp/inequality_rows.h"
@@ -24,6 +26,9 @@ struct SheetLpFixtureOptions {
   double column_cap = SheetLpContext{}.column_cap;
   bool refute_by_propagation = true;
   SheetLpFactory new_lp = nullptr;  // CLP
+  // Requests without a root are first solved as flows (SheetLpContext::potentials); the mesh
+  // must have potentials (core/bundle_potentials.h).
+  bool flows = false;
 };
 
 class SheetLpFixture {
@@ -47,6 +52,7 @@ class SheetLpFixture {
   BundleQuantization x_;
   InequalityRows rows_;
   FlatLists<LinearTerm> equalities_;
+  std::optional<BundlePotentials> potentials_;
   SheetLpContext context_;
   std::unique_ptr<SheetSubproblem> lp_;
 };

@@ -376,8 +376,8 @@ TEST(IntegerSheetPumpTest, DescendingFromTheLayeredStartEndsValidBelowIt) {
 }
 
 // The bulk descent (every subproblem at least IspTuning::bulk_descent_min_bundles bundles) on the
-// synthetic part: valid, within the greedy's spread of the root-by-root descent, in fewer LP
-// solves, and its solves are counted with their pivots.
+// synthetic part, its LPs solved by the LP: valid, within the greedy's spread of the root-by-root
+// descent, in fewer LP solves, and its solves are counted with their pivots.
 TEST(IntegerSheetPumpTest, BulkDescentEndsValidInFewerSolves) {
   const TMesh mesh = SyntheticPart();
   for (const int level : {1, 5, 7}) {
@@ -385,6 +385,7 @@ TEST(IntegerSheetPumpTest, BulkDescentEndsValidInFewerSolves) {
     options.scaling = mesh.levels()[level].scaling;
     IspTuning bulk;
     bulk.bulk_descent_min_bundles = 0;
+    bulk.bulk_descent_as_flow = false;
     const absl::StatusOr<IspOutcome> in_bulk =
         RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), bulk, nullptr, nullptr);
     ASSERT_TRUE(in_bulk.ok()) << in_bulk.status();
@@ -402,6 +403,33 @@ TEST(IntegerSheetPumpTest, BulkDescentEndsValidInFewerSolves) {
     EXPECT_LE(bulk_objective, 1.02 * root_objective) << "level " << level;
     EXPECT_LT(in_bulk->stats.lp_solves, root_by_root->stats.lp_solves) << "level " << level;
     EXPECT_GE(in_bulk->stats.lp_pivots, in_bulk->stats.lp_solves / 2) << "level " << level;
+    EXPECT_EQ(in_bulk->stats.flow_solves, 0);
+  }
+}
+
+// The same with the LPs without a root solved as flows (IspTuning::bulk_descent_as_flow; the
+// part has global frames and no handle): valid, and flows answered most of those solves.
+TEST(IntegerSheetPumpTest, BulkDescentAsFlowsEndsValid) {
+  const TMesh mesh = SyntheticPart();
+  for (const int level : {1, 5, 7}) {
+    QuantizeOptions options;
+    options.scaling = mesh.levels()[level].scaling;
+    IspTuning by_lp, by_flow;
+    by_lp.bulk_descent_min_bundles = by_flow.bulk_descent_min_bundles = 0;
+    by_lp.bulk_descent_as_flow = false;
+    const absl::StatusOr<IspOutcome> lp =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), by_lp, nullptr, nullptr);
+    const absl::StatusOr<IspOutcome> flow =
+        RunIntegerSheetPump(mesh, options, ClpSheetLpFactory(), by_flow, nullptr, nullptr);
+    ASSERT_TRUE(lp.ok() && flow.ok());
+    ExpectSeparatingAndValid(mesh, *flow);
+    const double lp_objective = QuantizationObjective(mesh, lp->q, options.scaling);
+    const double flow_objective = QuantizationObjective(mesh, flow->q, options.scaling);
+    std::cout << "level " << level << ": by LP " << lp_objective << " in " << lp->stats.lp_solves
+              << " solves, by flows " << flow_objective << " in " << flow->stats.lp_solves
+              << " solves, " << flow->stats.flow_solves << " of them flows\n";
+    EXPECT_GT(flow->stats.flow_solves, flow->stats.lp_solves / 2) << "level " << level;
+    EXPECT_LE(flow_objective, 1.02 * lp_objective) << "level " << level;
   }
 }
 
