@@ -94,7 +94,8 @@ class IntegerSheetPump {
     if (tuning.bulk_descent_as_flow && bundles_.num_bundles() >= tuning.bulk_descent_min_bundles) {
       potentials_ = BundlePotentials::Compute(mesh, consistency_, bundles_);
       if (potentials_.has_value()) {
-        subproblems_.SolveUnitMovesAsFlows(&*potentials_, [&clock] { return clock.ShouldStop(); });
+        subproblems_.UseFlows(&*potentials_, static_cast<size_t>(tuning.bulk_descent_min_bundles),
+                              [&clock] { return clock.ShouldStop(); });
       }
     }
     if (start.has_value()) {
@@ -167,7 +168,7 @@ class IntegerSheetPump {
   const ArcBundles& bundles_;
   BundleQuantization quantization_;
   const Subproblems initial_subproblems_;       // before separation rows couple any
-  std::optional<BundlePotentials> potentials_;  // for the bulk descent's flows, where they exist
+  std::optional<BundlePotentials> potentials_;  // for the flows of the LPs without a root
   SeparationRows rows_;
   SubproblemSet subproblems_;
   SeparationCheck& separation_;

@@ -40,10 +40,12 @@ struct SheetLpContext {
   // Upper bound of every free column for LPs that want one (core/isp/sheet_subproblem.h). Real
   // sheets move a bundle by a few units.
   double column_cap = 1024;
-  // Where every consistent q is a potential difference (core/bundle_potentials.h), the bulk
-  // descent's LPs are first solved as min-cost flows (core/isp/sheet_network.h); null: by the
-  // LP alone. The flows ask `should_stop` as the LPs ask theirs.
+  // Where every consistent q is a potential difference (core/bundle_potentials.h), the LPs
+  // without a root of subproblems of at least flow_min_bundles bundles are first solved as
+  // min-cost flows (core/isp/sheet_network.h); null: by the LP alone. The flows ask
+  // `should_stop` as the LPs ask theirs.
   const BundlePotentials* potentials = nullptr;
+  size_t flow_min_bundles = 0;
   LpStopCheck should_stop;
 };
 

@@ -29,15 +29,14 @@ int64_t CeilDiv(int64_t rhs, int64_t c) { return rhs / c + (rhs % c > 0 ? 1 : 0)
 }  // namespace
 
 SheetNetwork::SheetNetwork(const BundlePotentials& potentials, std::span<const BundleId> bundles,
-                           int num_bundles)
-    : bundles_(bundles.begin(), bundles.end()), local_of_bundle_(num_bundles, kNoId) {
-  for (size_t i = 0; i < bundles_.size(); ++i) {
-    local_of_bundle_[bundles_[i]] = static_cast<int32_t>(i);
-  }
+                           std::span<const int32_t> local_index_of_bundle)
+    : bundles_(bundles.begin(), bundles.end()), local_of_bundle_(local_index_of_bundle) {
   // Bundles of other subproblems stay as they are: their ends are one node.
   DisjointSets fixed(potentials.num_potentials());
-  for (BundleId b = 0; b < num_bundles; ++b) {
-    if (local_of_bundle_[b] == kNoId) fixed.Join(potentials.tail(b), potentials.head(b));
+  for (BundleId b = 0; b < static_cast<BundleId>(local_of_bundle_.size()); ++b) {
+    const int32_t i = local_of_bundle_[b];
+    const bool ours = i < static_cast<int32_t>(bundles_.size()) && bundles_[i] == b;
+    if (!ours) fixed.Join(potentials.tail(b), potentials.head(b));
   }
   std::vector<int32_t> node_of_potential(potentials.num_potentials(), kNoId);
   const auto node = [&](int32_t potential) {
@@ -86,10 +85,14 @@ bool SheetNetwork::AsDifference(std::span<const LinearTerm> terms, int64_t slack
 bool SheetNetwork::SplitRow(const InequalityRows& rows, const Split& split,
                             std::vector<Difference>* differences) const {
   const std::span<const LinearTerm> terms = rows.terms(split.row);
+  int64_t others = 0;
+  for (int32_t k = 0; k < static_cast<int32_t>(terms.size()); ++k) {
+    if (k != split.term) others += split.floors[k];
+  }
   for (int32_t k = 0; k < static_cast<int32_t>(terms.size()); ++k) {
     // coef * move_b >= rhs, an integer bound on U[head] - U[tail] (a restriction: the split
     // itself is one).
-    const int64_t rhs = k == split.term ? -rows.slack(split.row) : 0;
+    const int64_t rhs = k == split.term ? -rows.slack(split.row) - others : split.floors[k];
     const int32_t i = local_of_bundle_[terms[k].var];
     const int64_t c = terms[k].coef;
     if (tail_node_[i] == head_node_[i]) {
@@ -193,7 +196,10 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
     int32_t best_term = kNoId;
     double best_cost = std::numeric_limits<double>::infinity();
     std::vector<int64_t> best_move;
-    splits.push_back({violated, 0});
+    splits.push_back({violated, 0, {}});
+    for (const LinearTerm& t : rows.terms(violated)) {
+      splits.back().floors.push_back(t.coef * move_[local_of_bundle_[t.var]]);
+    }
     for (int32_t k = 0; k < static_cast<int32_t>(num_terms); ++k) {
       splits.back().term = k;
       const Outcome split_outcome = SolveOnce(rows, splits, should_stop, &cost);

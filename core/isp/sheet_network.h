@@ -22,15 +22,15 @@
 //
 // Rows over more potentials (a separation row over two axes) are left out of the network and
 // checked on its answer: an optimum of a relaxation that satisfies them is an optimum of the LP.
-// One that does not hold is split: one of its bundle terms is made to carry its whole
-// requirement and the others may not move against it, each a difference row, which implies the
-// row; of its terms, the one whose split costs least (each priced by a solve) is kept, until
-// every row holds. The split answer is feasible for the LP but may cost more than its optimum (it
-// is an optimum of a restriction); the separating updates, where such rows are violated, take it
-// as their step, as they take the LP's vertex. If the splits do not settle within a few rounds,
-// or a difference row's rhs is not a multiple of its coefficient, the network gives no answer and
-// the LP is solved as before. Bundles outside the subproblem do not move: their potentials are
-// merged.
+// One that does not hold is split around the answer that violated it: every term but one keeps
+// at least what it contributes there, and that one makes up the rest, each a difference row, which
+// together imply the row; of its terms, the one whose split costs least (each priced by a solve)
+// is kept, until every row holds. The split answer is feasible for the LP but may cost more than
+// its optimum (it is an optimum of a restriction); the separating updates, where such rows are
+// violated, take it as their step, as they take the LP's vertex. If the splits do not settle within
+// a few rounds, or a difference row's rhs is not a multiple of its coefficient, the network gives
+// no answer and the LP is solved as before. Bundles outside the subproblem do not move: their
+// potentials are merged.
 #ifndef ISPQ_CORE_ISP_SHEET_NETWORK_H_
 #define ISPQ_CORE_ISP_SHEET_NETWORK_H_
 
@@ -56,9 +56,11 @@ class SheetNetwork {
     kUnanswered,  // a row the network left out does not hold (or the solve gave up): ask the LP
   };
 
-  // `bundles`: the subproblem's, ascending; `num_bundles`: the mesh's.
+  // `bundles`: the subproblem's, ascending; `local_index_of_bundle`: per bundle of the mesh, its
+  // index in its subproblem's list (SheetLpContext), kept by reference. Work O(mesh bundles), once;
+  // memory O(the subproblem's bundles).
   SheetNetwork(const BundlePotentials& potentials, std::span<const BundleId> bundles,
-               int num_bundles);
+               std::span<const int32_t> local_index_of_bundle);
 
   // The cheapest moves of the subproblem's bundles, each within -down..up (0, 1 or +inf), that
   // keep the active ones of `subproblem_rows`, priced by `weights` (per bundle of the subproblem,
@@ -72,6 +74,7 @@ class SheetNetwork {
   struct Split {
     int32_t row;
     int32_t term;
+    std::vector<int64_t> floors;  // per term: coef * move in the answer that violated the row
   };
   struct Difference {
     int32_t from, to;
@@ -98,7 +101,7 @@ class SheetNetwork {
   std::vector<int32_t> side_rows_;
 
   std::vector<BundleId> bundles_;
-  std::vector<int32_t> local_of_bundle_;        // per mesh bundle: index into bundles_, or kNoId
+  std::span<const int32_t> local_of_bundle_;    // per mesh bundle: its index in its subproblem
   std::vector<int32_t> tail_node_, head_node_;  // per local bundle
   int num_nodes_ = 0;
   std::vector<int64_t> move_;                            // per local bundle, of the last solve

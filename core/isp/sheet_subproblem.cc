@@ -187,13 +187,13 @@ absl::StatusOr<bool> SheetSubproblem::Solve(const SheetRequest& request, Rationa
 
 std::optional<bool> SheetSubproblem::SolveAsFlow(const SheetRequest& request, double bound,
                                                  RationalSheet* sheet) {
-  if (context_->potentials == nullptr || request.root != kNoId || !request.blocked.empty() ||
-      !request.fixed.empty()) {
+  if (context_->potentials == nullptr || bundles_.size() < context_->flow_min_bundles ||
+      request.root != kNoId || !request.blocked.empty() || !request.fixed.empty()) {
     return std::nullopt;
   }
   if (network_ == nullptr) {
-    network_ = std::make_unique<SheetNetwork>(
-        *context_->potentials, bundles_, static_cast<int>(context_->local_index_of_bundle.size()));
+    network_ = std::make_unique<SheetNetwork>(*context_->potentials, bundles_,
+                                              context_->local_index_of_bundle);
   }
   network_weights_.resize(bundles_.size());
   for (size_t i = 0; i < bundles_.size(); ++i) network_weights_[i] = WeightsOf(bundles_[i]);

@@ -20,6 +20,10 @@
 // reaches it, or that the cap makes infeasible, is repeated with the cap lifted, and an LP optimum
 // strictly inside the box is an optimum without it (among tied optima the solver may pick another
 // vertex, as any warm start may).
+//
+// On meshes whose consistent q are potential differences, a large subproblem's requests without a
+// root (the bulk descent, separating updates) are first put to a min-cost flow
+// (core/isp/sheet_network.h, SheetLpContext::potentials); the LP answers where the flow cannot.
 #ifndef ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 #define ISPQ_CORE_ISP_SHEET_SUBPROBLEM_H_
 
@@ -82,7 +86,7 @@ class SheetSubproblem {
   // What the LP back ends of this subproblem did in its solves (its LP may have been rebuilt).
   const SheetLpCounters& lp_counters() const { return lp_counters_; }
   int64_t uncapped_solves() const { return uncapped_solves_; }
-  // Of the solver runs, requests for unit moves that a flow answered (SheetLpContext::potentials).
+  // Of the solver runs, requests without a root that a flow answered (SheetLpContext::potentials).
   int64_t flow_solves() const { return flow_solves_; }
   int64_t refuted_requests() const { return refuted_requests_; }
 
@@ -125,7 +129,7 @@ class SheetSubproblem {
   std::vector<int32_t> rows_;
   FlatLists<int32_t> equalities_of_bundle_;  // by local index: positions in equalities_
   std::unique_ptr<SheetLp> lp_;
-  std::unique_ptr<SheetNetwork> network_;            // made by the first request for unit moves
+  std::unique_ptr<SheetNetwork> network_;            // made by the first request a flow answers
   std::vector<BundleWeights> network_weights_;       // scratch of SolveAsFlow
   std::vector<std::pair<BundleId, int64_t>> moves_;  // scratch of SolveAsFlow
   SheetInfeasibility infeasibility_;

@@ -56,10 +56,12 @@ class SubproblemSet {
   void Attach(std::span<const int32_t> new_rows);
   // Adds rows over the bundles of subproblem `id` alone to its LP.
   void AttachTo(int32_t id, std::span<const int32_t> new_rows);
-  // From now on the bulk descent's LPs are first solved as flows over these potentials
-  // (SheetLpContext::potentials), stopped by `should_stop`.
-  void SolveUnitMovesAsFlows(const BundlePotentials* potentials, LpStopCheck should_stop) {
+  // From now on the LPs without a root of subproblems of at least `min_bundles` bundles are
+  // first solved as flows over these potentials (SheetLpContext::potentials), stopped by
+  // `should_stop`.
+  void UseFlows(const BundlePotentials* potentials, size_t min_bundles, LpStopCheck should_stop) {
     context_.potentials = potentials;
+    context_.flow_min_bundles = min_bundles;
     context_.should_stop = std::move(should_stop);
   }
 
