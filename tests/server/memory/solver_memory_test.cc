@@ -117,8 +117,9 @@ TEST(SolverMemoryTest, ManyDisjointCopies) {
 }
 
 // Large parts, where the estimate is per arc and per bundle: a single part of 30k arcs (1.2-1.3
-// KB per arc measured) and a feature-dense assembly of 20k arcs (1.7-2.1 KB per arc). A sparser
-// single part of 20k arcs (0.95 KB per arc at levels 5 and 25) is estimated at 2.1 times its peak
+// KB per arc measured) and a feature-dense assembly of 20k arcs (1.7-2.1 KB per arc when its LPs
+// went to CLP, 1.24 KB since those without a root are flows). A sparser single part of 20k arcs
+// (0.95 KB per arc at levels 5 and 25) is estimated at 2.1 times its peak
 // (server/memory/memory_estimates.h), so it is not the one checked here.
 TEST(SolverMemoryTest, GeneratedParts) {
   const TMesh single = Generated(bench::LargeFamily::kSingleSubproblem, 30000);
