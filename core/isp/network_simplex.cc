@@ -202,6 +202,7 @@ void NetworkSimplex::UpdateSubtree(int top, double shift) {
 
 NetworkSimplex::Outcome NetworkSimplex::Solve(const std::function<bool()>& should_stop,
                                               int64_t max_pivots) {
+  ISPQ_RELEASE_INVARIANT(num_real_arcs_ == num_arcs(), "one solve per network");
   InitTree();
   while (true) {
     if (pivots_ % kPivotsPerStopCheck == 0 && pivots_ > 0 && should_stop && should_stop()) {

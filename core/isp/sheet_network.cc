@@ -35,7 +35,7 @@ SheetNetwork::SheetNetwork(const BundlePotentials& potentials, std::span<const B
   DisjointSets fixed(potentials.num_potentials());
   for (BundleId b = 0; b < static_cast<BundleId>(local_of_bundle_.size()); ++b) {
     const int32_t i = local_of_bundle_[b];
-    const bool ours = i < static_cast<int32_t>(bundles_.size()) && bundles_[i] == b;
+    const bool ours = i >= 0 && i < static_cast<int32_t>(bundles_.size()) && bundles_[i] == b;
     if (!ours) fixed.Join(potentials.tail(b), potentials.head(b));
   }
   std::vector<int32_t> node_of_potential(potentials.num_potentials(), kNoId);
