@@ -25,7 +25,7 @@ const char* TerminationName(Termination termination);
 
 struct QuantizeStats {
   int64_t lp_solves = 0;
-  // Of those, bulk-descent LPs a min-cost flow answered (core/isp/sheet_network.h).
+  // Of those, LPs without a root that a min-cost flow answered (core/isp/sheet_network.h).
   int64_t flow_solves = 0;
   // What the sheet LPs' back ends did in those solves: simplex pivots (and how many of them left
   // the objective where it was), refactorizations of the basis, and solves the sparse dual

@@ -122,6 +122,7 @@ v1::QuantizationResult QuantizationResultToProto(const QuantizeResult& result, d
   stats->set_lp_pivots(s.lp_pivots);
   stats->set_lp_refactorizations(s.lp_refactorizations);
   stats->set_lp_fallback_solves(s.lp_fallback_solves);
+  stats->set_flow_solves(s.flow_solves);
   stats->set_lp_degenerate_pivots(s.lp_degenerate_pivots);
   stats->set_lp_stalled_solves(s.lp_stalled_solves);
   stats->set_sheets_inflating(s.sheets_inflating);

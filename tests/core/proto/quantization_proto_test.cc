@@ -226,6 +226,7 @@ TEST(QuantizationProtoTest, EveryStatisticLandsInTheFieldOfItsName) {
       {"milp_incumbents", s.milp_incumbents = 26},
       {"exact_seconds", s.exact_seconds = 27.5},
       {"solve_seconds", s.solve_seconds = 28.5},
+      {"flow_solves", s.flow_solves = 29},
   };
   const v1::QuantizationStats stats = QuantizationResultToProto(result, 1.0, Mesh()).stats();
   const google::protobuf::Descriptor* descriptor = stats.GetDescriptor();
