@@ -6,33 +6,12 @@
 
 #include "core/direction.h"
 #include "core/disjoint_sets.h"
+#include "core/linear_terms.h"
 
 namespace ispq {
 namespace {
 
 int DirCopy(BlockId b, Dir d) { return 6 * b + DirIndex(d); }
-
-// The blocks' directions joined across interior patches, or nothing if some block finds two of
-// its own directions joined (an axis turned into another, or into its own opposite). Parts that
-// share no patch keep frames of their own.
-std::optional<DisjointSets> GlobalDirections(const TMesh& mesh) {
-  DisjointSets dirs(6 * mesh.num_blocks());
-  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
-    const BlockId from = mesh.patch_block(p, 0), to = mesh.patch_block(p, 1);
-    if (from == kNoId || to == kNoId) continue;
-    for (const Dir d : kAllDirs) {
-      dirs.Join(DirCopy(from, d), DirCopy(to, mesh.patch_rotation(p).Apply(d)));
-    }
-  }
-  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
-    for (const Dir d : kAllDirs) {
-      for (const Dir e : kAllDirs) {
-        if (d != e && dirs.Find(DirCopy(b, d)) == dirs.Find(DirCopy(b, e))) return std::nullopt;
-      }
-    }
-  }
-  return dirs;
-}
 
 // b1 = b0 + b2 - chi for a solid in space, where b2 (its cavities) is its boundary shells minus
 // its components b0: so b1 = shells - chi, with chi = nodes - arcs + patches - blocks.
@@ -60,10 +39,29 @@ int64_t FirstBettiNumber(const TMesh& mesh) {
 
 }  // namespace
 
+std::optional<DisjointSets> GlobalBlockDirections(const TMesh& mesh) {
+  DisjointSets dirs(6 * mesh.num_blocks());
+  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
+    const BlockId from = mesh.patch_block(p, 0), to = mesh.patch_block(p, 1);
+    if (from == kNoId || to == kNoId) continue;
+    for (const Dir d : kAllDirs) {
+      dirs.Join(DirCopy(from, d), DirCopy(to, mesh.patch_rotation(p).Apply(d)));
+    }
+  }
+  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
+    for (const Dir d : kAllDirs) {
+      for (const Dir e : kAllDirs) {
+        if (d != e && dirs.Find(DirCopy(b, d)) == dirs.Find(DirCopy(b, e))) return std::nullopt;
+      }
+    }
+  }
+  return dirs;
+}
+
 std::optional<BundlePotentials> BundlePotentials::Compute(const TMesh& mesh,
                                                           const ConsistencyMatrix& consistency,
                                                           const ArcBundles& bundles) {
-  std::optional<DisjointSets> dirs = GlobalDirections(mesh);
+  std::optional<DisjointSets> dirs = GlobalBlockDirections(mesh);
   if (!dirs.has_value() || FirstBettiNumber(mesh) != 0) return std::nullopt;
   // Per arc: its global axis as a slot 0..2 (the axis in the first block of its part) and whether
   // it runs along that axis's negative direction.
@@ -120,21 +118,15 @@ std::optional<BundlePotentials> BundlePotentials::Compute(const TMesh& mesh,
     potentials.head_[b] = arc_head[first];
   }
   // Every consistency row must vanish identically on potential differences.
-  std::vector<std::pair<int32_t, int64_t>> terms;
+  std::vector<LinearTerm> terms;
   for (int r = 0; r < consistency.num_rows(); ++r) {
     terms.clear();
     for (const LinearTerm& t : consistency.row(r)) {
       terms.push_back({arc_head[t.var], t.coef});
       terms.push_back({arc_tail[t.var], -t.coef});
     }
-    std::sort(terms.begin(), terms.end());
-    for (size_t i = 0; i < terms.size();) {
-      int64_t sum = 0;
-      size_t j = i;
-      for (; j < terms.size() && terms[j].first == terms[i].first; ++j) sum += terms[j].second;
-      if (sum != 0) return std::nullopt;
-      i = j;
-    }
+    MergeRepeatedTerms(terms);
+    if (!terms.empty()) return std::nullopt;
   }
   return potentials;
 }

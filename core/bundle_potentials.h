@@ -27,9 +27,16 @@
 
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
+#include "core/disjoint_sets.h"
 #include "core/tmesh.h"
 
 namespace ispq {
+
+// The blocks' six directions (element 6 * block + DirIndex) joined across interior patches by
+// the patches' rotations, or nothing if some block finds two of its own directions joined (an
+// axis turned into another, or into its own opposite): the frames are global exactly when this
+// has a value. Parts that share no patch keep frames of their own.
+std::optional<DisjointSets> GlobalBlockDirections(const TMesh& mesh);
 
 class BundlePotentials {
  public:

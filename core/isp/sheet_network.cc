@@ -59,25 +59,14 @@ bool SheetNetwork::AsDifference(std::span<const LinearTerm> terms, int64_t slack
     node_terms_.push_back({head_node_[i], t.coef});
     node_terms_.push_back({tail_node_[i], -t.coef});
   }
-  std::sort(node_terms_.begin(), node_terms_.end());
-  // Merge the terms of each node, keeping the non-zero sums at the front.
-  size_t kept = 0;
-  for (size_t i = 0; i < node_terms_.size();) {
-    int64_t sum = 0;
-    size_t j = i;
-    for (; j < node_terms_.size() && node_terms_[j].first == node_terms_[i].first; ++j) {
-      sum += node_terms_[j].second;
-    }
-    if (sum != 0) node_terms_[kept++] = {node_terms_[i].first, sum};
-    i = j;
-  }
-  if (kept != 2 || node_terms_[0].second != -node_terms_[1].second) return false;
+  MergeRepeatedTerms(node_terms_);
+  if (node_terms_.size() != 2 || node_terms_[0].coef != -node_terms_[1].coef) return false;
   // The row: c (U_to - U_from) >= -slack; an LP bound that is no integer stays a side row.
-  const int64_t c = std::abs(node_terms_[0].second);
+  const int64_t c = std::abs(node_terms_[0].coef);
   if (slack % c != 0) return false;
-  const bool first_is_to = node_terms_[0].second > 0;
-  difference->to = node_terms_[first_is_to ? 0 : 1].first;
-  difference->from = node_terms_[first_is_to ? 1 : 0].first;
+  const bool first_is_to = node_terms_[0].coef > 0;
+  difference->to = node_terms_[first_is_to ? 0 : 1].var;
+  difference->from = node_terms_[first_is_to ? 1 : 0].var;
   difference->rhs = -slack / c;
   return true;
 }

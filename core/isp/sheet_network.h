@@ -44,6 +44,7 @@
 #include "core/isp/inequality_rows.h"
 #include "core/isp/sheet_lp.h"
 #include "core/isp/sheet_weights.h"
+#include "core/linear_terms.h"
 
 namespace ispq {
 
@@ -104,8 +105,8 @@ class SheetNetwork {
   std::span<const int32_t> local_of_bundle_;    // per mesh bundle: its index in its subproblem
   std::vector<int32_t> tail_node_, head_node_;  // per local bundle
   int num_nodes_ = 0;
-  std::vector<int64_t> move_;                            // per local bundle, of the last solve
-  std::vector<std::pair<int32_t, int64_t>> node_terms_;  // scratch of AsDifference
+  std::vector<int64_t> move_;           // per local bundle, of the last solve
+  std::vector<LinearTerm> node_terms_;  // scratch of AsDifference: terms over nodes
 };
 
 }  // namespace ispq

@@ -47,9 +47,8 @@
 #include "absl/flags/parse.h"
 #include "core/arc_bundles.h"
 #include "core/arc_singularity.h"
+#include "core/bundle_potentials.h"
 #include "core/consistency_matrix.h"
-#include "core/direction.h"
-#include "core/disjoint_sets.h"
 #include "core/large_allocations.h"
 #include "core/mesh_stats.h"
 #include "core/quantization_validator.h"
@@ -99,31 +98,10 @@ double ColdSolvePeakRssMib(const TMesh& mesh, const QuantizeOptions& options,
 }
 
 // Whether the patch rotations carry every block's axes into three global axes, signs included:
-// then the nodes have per-axis potentials whose differences are the arc lengths (the flow form of
-// the bulk LP, results/assembly/README.md). Interior singular arcs break it, and so can a handle
+// then the nodes have per-axis potentials whose differences are the arc lengths, where the part
+// has no handle (core/bundle_potentials.h). Interior singular arcs break it, and so can a handle
 // whose transition turns an axis around (joint-hex has no interior singular arc and fails).
-// Each block's six directions are elements, and a patch joins each direction of one block with
-// its image under the patch's rotation in the other.
-bool GlobalFrames(const TMesh& mesh) {
-  const auto copy = [](BlockId b, Dir d) { return 6 * b + DirIndex(d); };
-  DisjointSets sets(6 * mesh.num_blocks());
-  for (PatchId p = 0; p < mesh.num_patches(); ++p) {
-    const BlockId from = mesh.patch_block(p, 0), to = mesh.patch_block(p, 1);
-    if (from == kNoId || to == kNoId) continue;
-    for (const Dir d : kAllDirs)
-      sets.Join(copy(from, d), copy(to, mesh.patch_rotation(p).Apply(d)));
-  }
-  // No block may find two of its six directions in one set (an axis turned into another, or into
-  // its own opposite); parts that share no patch each keep frames of their own.
-  for (BlockId b = 0; b < mesh.num_blocks(); ++b) {
-    for (const Dir d : kAllDirs) {
-      for (const Dir e : kAllDirs) {
-        if (d != e && sets.Find(copy(b, d)) == sets.Find(copy(b, e))) return false;
-      }
-    }
-  }
-  return true;
-}
+bool GlobalFrames(const TMesh& mesh) { return GlobalBlockDirections(mesh).has_value(); }
 
 // The mesh's statistics as TSV columns: a header and a row, each starting with a tab. The counts
 // are `ispq stats --json`'s (core/mesh_stats.h); the largest subproblem is measured in bundles, the
