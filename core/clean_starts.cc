@@ -2,22 +2,19 @@
 #include "core/clean_starts.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "core/invariant.h"
 
 namespace ispq {
 
 CleanStarts::CleanStarts(const TMesh& mesh, const BlockNodeSlots& slots, int num_configs)
-    : mesh_(mesh), slots_(slots), reach_(num_configs, kUnknown) {}
+    : mesh_(mesh), slots_(slots), reach_(num_configs, kUnknown), bound_(num_configs) {}
 
-void CleanStarts::StartSearch(std::span<const int64_t> q,
-                              std::span<const int64_t> negative_slacks) {
-  if (last_q_.size() != q.size() ||
-      !std::equal(negative_slacks.begin(), negative_slacks.end(), last_negative_slacks_.begin(),
-                  last_negative_slacks_.end())) {
+void CleanStarts::StartSearch(std::span<const int64_t> q) {
+  if (last_q_.size() != q.size()) {
     std::fill(reach_.begin(), reach_.end(), kUnknown);
     last_q_.assign(q.begin(), q.end());
-    last_negative_slacks_.assign(negative_slacks.begin(), negative_slacks.end());
     distance_.assign(mesh_.num_nodes(), kFar);
     return;
   }
@@ -81,9 +78,14 @@ void CleanStarts::MeasureDistances() {
   }
 }
 
-void CleanStarts::RecordClean(int config, int reach) {
+void CleanStarts::RecordClean(int config, int reach, const std::array<int64_t, 3>& along) {
   ISPQ_INVARIANT(reach >= 0, "a reach counts arc hops");
   reach_[config] = reach > kMaxReach ? kUnknown : static_cast<uint8_t>(reach);
+  for (int axis = 0; axis < 3; ++axis) {
+    ISPQ_INVARIANT(along[axis] >= 0, "a walk bound sums negative lengths");
+    bound_[config][axis] =
+        static_cast<int32_t>(std::min<int64_t>(along[axis], std::numeric_limits<int32_t>::max()));
+  }
 }
 
 void CleanStarts::ForgetFrom(int first) {

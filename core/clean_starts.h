@@ -12,8 +12,11 @@
 // node is dirty if it ends a changed arc or lies on a block whose positions read one, and a
 // configuration that was clean before is still clean if no dirty node lies within its reach of its
 // start node: one breadth-first search from the dirty nodes, up to the largest reach remembered,
-// answers that for every configuration at once. The search's global input (the sums of negative
-// lengths, which bound how far a walk may get ahead) is compared whole.
+// answers that for every configuration at once. The other input is the bound on how far negative
+// arcs could bring a walk back (core/walk_slack.h): a clean search is kept with the bound it ran
+// with, and stays clean under any bound sound for the new q that is no looser, since a walk
+// hopeful under the tighter bound was hopeful under the old one, so the new search expands a
+// prefix of the old one's walks and ends no later.
 //
 // What it saves depends on what moved between two calls: after a separating update most of a
 // large part is unchanged (a 300k-arc part at level 100: 261k of 800k starts skipped, that search
@@ -21,6 +24,7 @@
 #ifndef ISPQ_CORE_CLEAN_STARTS_H_
 #define ISPQ_CORE_CLEAN_STARTS_H_
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -39,20 +43,29 @@ class CleanStarts {
   // The mesh and slots must outlive this object.
   CleanStarts(const TMesh& mesh, const BlockNodeSlots& slots, int num_configs);
 
-  // The next search runs on q with the given sums of negative lengths (per parallel class, as the
-  // search counts them): afterwards StillClean answers for q. A configuration the search runs must
-  // then be recorded (Record or Forget), and every one it does not reach forgotten (ForgetFrom),
-  // before the next call.
-  void StartSearch(std::span<const int64_t> q, std::span<const int64_t> negative_slacks);
+  // The next search runs on q: afterwards the queries below answer for q. A configuration the
+  // search runs must then be recorded (Record or Forget), and every one it does not reach
+  // forgotten (ForgetFrom), before the next call.
+  void StartSearch(std::span<const int64_t> q);
 
   // Whether configuration `config` (starting at `start_node`) came back clean on an earlier q and
-  // nothing it read changed since: its search on the current q would come back clean too.
-  bool StillClean(int config, NodeId start_node) const {
+  // nothing within its reach changed since.
+  bool UnchangedSinceClean(int config, NodeId start_node) const {
     return reach_[config] != kUnknown && distance_[start_node] > reach_[config];
   }
-  // The configuration came back clean on the current q after expanding nodes within `reach`
-  // arc hops of its start node (links: at least the link's length in arcs).
-  void RecordClean(int config, int reach);
+  // Whether `along` (per axis of the start block, sound for the current q) lets walks get no
+  // further ahead than the bound its clean search ran with. With UnchangedSinceClean, the search
+  // on the current q would come back clean too.
+  bool BoundNoLooser(int config, const std::array<int64_t, 3>& along) const {
+    for (int axis = 0; axis < 3; ++axis) {
+      if (along[axis] > bound_[config][axis]) return false;
+    }
+    return true;
+  }
+  // The configuration came back clean on the current q under the walk bound `along`, after
+  // expanding nodes within `reach` arc hops of its start node (links: at least the link's length
+  // in arcs).
+  void RecordClean(int config, int reach, const std::array<int64_t, 3>& along);
   void Forget(int config) { reach_[config] = kUnknown; }
   // Forgets configurations `first` and above: the search stopped before them.
   void ForgetFrom(int first);
@@ -69,8 +82,9 @@ class CleanStarts {
   const TMesh& mesh_;
   const BlockNodeSlots& slots_;
   std::vector<uint8_t> reach_;  // per configuration: kUnknown, or the reach of its clean search
+  // Per configuration, the walk bound of its clean search, capped (a lower bound is sound).
+  std::vector<std::array<int32_t, 3>> bound_;
   std::vector<int64_t> last_q_;
-  std::vector<int64_t> last_negative_slacks_;
   std::vector<uint8_t> arc_changed_;  // per arc, between last_q_ and the new q
   std::vector<uint8_t> distance_;     // per node
   std::vector<NodeId> frontier_, next_frontier_;

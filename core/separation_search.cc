@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include "core/block_node_positions.h"
@@ -130,6 +131,9 @@ class SeparationSearch::Impl {
   // How far negative arcs could bring a walk from `config` back along each axis of its start
   // block, into walk_bound_ (core/walk_slack.h).
   void BoundWalks(int config, std::span<const int64_t> q);
+  // Whether `config` came back clean on an earlier call and its search on q would again
+  // (core/clean_starts.h).
+  bool StillClean(int config, std::span<const int64_t> q);
 
   // One search (core/README.md, section Walks and their order); true and `violation` filled on the
   // first hit, else the search's reach is left in reach_ (core/clean_starts.h).
@@ -177,7 +181,7 @@ class SeparationSearch::Impl {
   // How far negative arcs could bring walks back (core/walk_slack.h): measured per call, and the
   // bound of the current start.
   WalkSlack walk_slack_;
-  WalkSlack::StartBound walk_bound_;
+  std::array<int64_t, 3> walk_bound_{};
   int reach_ = 0;                      // the most steps of an expanded walk (and the link's arcs)
   StampedSet &seen_pre_, &seen_post_;  // over nodes
   StampedSet& branch_offs_;            // over halfarcs
@@ -289,15 +293,19 @@ int64_t SeparationSearch::Impl::FindViolations(
     geometry_ready_.Clear();
   }
   walk_slack_.Measure(q);
-  clean_starts_.StartSearch(q, walk_slack_.per_class());
+  clean_starts_.StartSearch(q);
   int64_t found = 0;
   SeparationViolation violation;
   for (int config = 0; config < configs_.size(); ++config) {
-    if (clean_starts_.StillClean(config, configs_[config].start_node)) {
+    if (StillClean(config, q)) {
       ++skipped_starts_;
       continue;
     }
-    if (options_.prune_by_parallel_slack && walk_slack_.AheadAtEveryBranchOff(config, q)) {
+    const std::optional<std::array<int64_t, 3>> settling =
+        options_.prune_by_parallel_slack
+            ? walk_slack_.BoundSettlingBranchOffs(config, q, StartBox(config, q))
+            : std::nullopt;
+    if (settling.has_value()) {
       ++settled_at_branch_offs_;
       // A node start's walk would have expanded its start node alone (reach 0) and read the one
       // arc checked here. A link start's walk reads further along the link before it ends, so its
@@ -305,17 +313,12 @@ int64_t SeparationSearch::Impl::FindViolations(
       if (configs_[config].is_link) {
         clean_starts_.Forget(config);
       } else {
-        clean_starts_.RecordClean(config, 0);
+        clean_starts_.RecordClean(config, 0, *settling);
       }
       continue;
     }
     if (!Search(config, q, violation)) {
-      // A local bound read blocks around the start that the walks need not have reached.
-      if (walk_bound_.below_class) {
-        clean_starts_.Forget(config);
-      } else {
-        clean_starts_.RecordClean(config, reach_);
-      }
+      clean_starts_.RecordClean(config, reach_, walk_bound_);
       continue;
     }
     clean_starts_.Forget(config);
@@ -328,12 +331,24 @@ int64_t SeparationSearch::Impl::FindViolations(
   return found;
 }
 
+// The class bound needs no geometry; only when it grew past the one the clean search ran with is
+// the start's own (local) bound measured, as its search would.
+bool SeparationSearch::Impl::StillClean(int config, std::span<const int64_t> q) {
+  if (!clean_starts_.UnchangedSinceClean(config, configs_[config].start_node)) return false;
+  if (clean_starts_.BoundNoLooser(config, walk_slack_.ClassBound(config))) return true;
+  if (!options_.prune_by_parallel_slack) return false;
+  box_ = StartBox(config, q);
+  if (IsInverted(box_)) return false;
+  BoundWalks(config, q);
+  return clean_starts_.BoundNoLooser(config, walk_bound_);
+}
+
 bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
                                     SeparationViolation& violation) {
   box_ = StartBox(config, q);
   const SeparationStartConfiguration& c = configs_[config];
   reach_ = c.is_link ? static_cast<int>(mesh_.entity_halfarcs(c.entity).size()) : 0;
-  walk_bound_ = {};  // set by BoundWalks; a start returned from before has none
+  walk_bound_ = {};  // set by BoundWalks; a start returned from before bounds no walk
   // A collapsed link (negative length, only while simple rows are violated) has an inverted
   // start box that nothing touches: no block is admissible and nothing can be reported.
   if (IsInverted(box_)) return false;
@@ -587,7 +602,7 @@ void SeparationSearch::Impl::Expand(int32_t walk_index, bool at_start_box,
         const Dir monotone = static_cast<Dir>(__builtin_ctz(next.monotone));
         const int64_t ahead =
             IsNegative(monotone) ? -next.offset[AxisOf(monotone)] : next.offset[AxisOf(monotone)];
-        next.hopeless = ahead > walk_bound_.along[AxisOf(monotone)];
+        next.hopeless = ahead > walk_bound_[AxisOf(monotone)];
       }
       Push(next);
       break;

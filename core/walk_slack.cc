@@ -2,6 +2,7 @@
 #include "core/walk_slack.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "core/block_node_positions.h"
 #include "core/invariant.h"
@@ -31,6 +32,49 @@ void WalkSlack::Measure(std::span<const int64_t> q) {
     }
   }
   std::sort(negative_arc_blocks_.begin(), negative_arc_blocks_.end());
+  MeasureNegativeBlockBoxes(q);
+}
+
+void WalkSlack::MeasureNegativeBlockBoxes(std::span<const int64_t> q) {
+  scan_negative_blocks_ = false;
+  negative_block_boxes_.clear();
+  negative_blocks_.clear();
+  for (const auto& [block, arc] : negative_arc_blocks_) {
+    if (!negative_blocks_.empty() && negative_blocks_.back() == block) continue;
+    if (negative_blocks_.size() == kMaxScannedBlocks) return;
+    negative_blocks_.push_back(block);
+  }
+  if (negative_blocks_.empty()) return;
+  if (!frame_computed_) {
+    frame_ = GlobalFrame::Compute(mesh_);
+    frame_computed_ = true;
+  }
+  if (!frame_.has_value() || !frame_->NodeCoordinates(mesh_, q, coordinates_)) return;
+  const BlockNodeSlots& slots = tables_.slots();
+  for (const BlockId b : negative_blocks_) {
+    negative_block_boxes_.push_back(
+        SpannedBox(coordinates_[slots.node_of(slots.corner_slot(b, kMinCorner))],
+                   coordinates_[slots.node_of(slots.corner_slot(b, kMaxCorner))]));
+  }
+  scan_negative_blocks_ = true;
+}
+
+// Every chart of a block is its placement in the global frame, seen from the start (core/
+// global_frame.h), so a block whose global corner box misses the global start box is never one
+// whose negative arcs MeasureLocal counts.
+bool WalkSlack::NoNegativeBlockTouches(int config, const IntBox& start_box) const {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (start_box.lo[axis] == std::numeric_limits<int64_t>::min() ||
+        start_box.hi[axis] == std::numeric_limits<int64_t>::max()) {
+      return false;  // a cyclic link's unbounded box
+    }
+  }
+  const BlockId start_block = tables_.configs()[config].start_block;
+  const IntVec3& at = coordinates_[tables_.slots().node_of(tables_.config_start_slot(config))];
+  const IntBox turned = RotateBox(frame_->to_block(start_block).Inverse(), start_box);
+  const IntBox global = {Add(at, turned.lo), Add(at, turned.hi)};
+  return std::none_of(negative_block_boxes_.begin(), negative_block_boxes_.end(),
+                      [&](const IntBox& box) { return Overlap(global, box); });
 }
 
 // The branch-off's arc has the class of the direction the walk takes through it: every block the
@@ -43,22 +87,42 @@ bool WalkSlack::AheadAtEveryBranchOff(int config, std::span<const int64_t> q) co
   return true;
 }
 
-WalkSlack::StartBound WalkSlack::ForStart(int config, std::span<const int64_t> q,
-                                          const IntBox& start_box, const PlacedGeometry& geometry) {
-  StartBound bound;
-  if (!per_class_) {
-    bound.along.fill(total_);
-    return bound;
+std::optional<std::array<int64_t, 3>> WalkSlack::BoundSettlingBranchOffs(
+    int config, std::span<const int64_t> q, const IntBox& start_box) const {
+  if (AheadAtEveryBranchOff(config, q)) return ClassBound(config);
+  if (!scan_negative_blocks_ || IsInverted(start_box) ||
+      !NoNegativeBlockTouches(config, start_box)) {
+    return std::nullopt;
   }
-  const SeparationStartConfiguration& c = tables_.configs()[config];
-  if (total_ > 0 && local_entity_ != c.entity) MeasureLocal(config, q, start_box, geometry);
-  const ParallelClasses& classes = tables_.parallel_classes();
+  for (HalfarcId h : tables_.configs().branch_offs(config)) {
+    if (q[ArcOf(h)] <= 0) return std::nullopt;
+  }
+  return std::array<int64_t, 3>{0, 0, 0};
+}
+
+std::array<int64_t, 3> WalkSlack::ClassBound(int config) const {
+  if (!per_class_) return {total_, total_, total_};
+  const BlockId start_block = tables_.configs()[config].start_block;
+  std::array<int64_t, 3> along;
   for (int axis = 0; axis < 3; ++axis) {
-    const int32_t of = classes.of_block_axis(c.start_block, axis);
-    bound.along[axis] = total_ > 0 ? local_class_slack_[of] : 0;
-    bound.below_class |= bound.along[axis] < class_slack_[of];
+    along[axis] = class_slack_[tables_.parallel_classes().of_block_axis(start_block, axis)];
   }
-  return bound;
+  return along;
+}
+
+std::array<int64_t, 3> WalkSlack::ForStart(int config, std::span<const int64_t> q,
+                                           const IntBox& start_box,
+                                           const PlacedGeometry& geometry) {
+  if (!per_class_ || total_ == 0) return ClassBound(config);
+  if (scan_negative_blocks_ && NoNegativeBlockTouches(config, start_box)) return {0, 0, 0};
+  const SeparationStartConfiguration& c = tables_.configs()[config];
+  if (local_entity_ != c.entity) MeasureLocal(config, q, start_box, geometry);
+  const ParallelClasses& classes = tables_.parallel_classes();
+  std::array<int64_t, 3> along;
+  for (int axis = 0; axis < 3; ++axis) {
+    along[axis] = local_class_slack_[classes.of_block_axis(c.start_block, axis)];
+  }
+  return along;
 }
 
 // Every block a walk steps in is admitted by a fan, and a fan reaches a block from the walk's

@@ -11,17 +11,21 @@
 //     admit, found by placing blocks outward from the start block across the patches whose boxes
 //     touch the start box.
 // The search measures once per call and asks for each start's bound; the local slack is the same
-// for every start of an entity, so it is computed once per entity and call.
+// for every start of an entity, so it is computed once per entity and call. On a part with one
+// frame (core/global_frame.h) and a q with few negative arcs, a start none of whose blocks'
+// boxes touches is bounded by zero at the cost of those box tests, without placing any block.
 #ifndef ISPQ_CORE_WALK_SLACK_H_
 #define ISPQ_CORE_WALK_SLACK_H_
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "absl/functional/function_ref.h"
+#include "core/global_frame.h"
 #include "core/integer_box.h"
 #include "core/rotation.h"
 #include "core/separation_search_tables.h"
@@ -55,14 +59,21 @@ class WalkSlack {
   // branching a walk moves along the link axis only, so the step through a branch-off puts it
   // exactly that arc's length ahead. Per-class pruning only.
   bool AheadAtEveryBranchOff(int config, std::span<const int64_t> q) const;
+  // A bound under which every walk from `config` is hopeless at that first step, or nothing: the
+  // class bound if AheadAtEveryBranchOff, else zero if no block around a negative arc touches the
+  // start box `start_box` (see ForStart) and every branch-off is longer than zero.
+  std::optional<std::array<int64_t, 3>> BoundSettlingBranchOffs(int config,
+                                                                std::span<const int64_t> q,
+                                                                const IntBox& start_box) const;
 
-  struct StartBound {
-    std::array<int64_t, 3> along{};  // per axis of the start block, the search's reference frame
-    bool below_class = false;        // some axis is bounded below its class's slack
-  };
-  // The bound of the walks from `config`, whose start box `start_box` is not inverted.
-  StartBound ForStart(int config, std::span<const int64_t> q, const IntBox& start_box,
-                      const PlacedGeometry& geometry);
+  // The class bound of the walks from `config`, per axis of its start block: its class's
+  // negative lengths (without per-class pruning, the whole mesh's). Needs no geometry.
+  std::array<int64_t, 3> ClassBound(int config) const;
+
+  // The bound of the walks from `config` per axis of its start block, whose start box
+  // `start_box` is not inverted: the local slack, at most the class bound.
+  std::array<int64_t, 3> ForStart(int config, std::span<const int64_t> q, const IntBox& start_box,
+                                  const PlacedGeometry& geometry);
 
  private:
   // A block placed in the reference frame: a point p of the block (in its own frame) lies at
@@ -73,6 +84,12 @@ class WalkSlack {
     IntVec3 origin;
   };
 
+  // The global corner boxes of the blocks around q's negative arcs, where the part has one frame
+  // and q global coordinates (core/global_frame.h), into negative_block_boxes_.
+  void MeasureNegativeBlockBoxes(std::span<const int64_t> q);
+  // Whether, on a q with global coordinates, no block around a negative arc touches the start
+  // box of `config`: then no walk from it steps through a negative arc.
+  bool NoNegativeBlockTouches(int config, const IntBox& start_box) const;
   // The negative lengths per class on the blocks any fan of a walk from `config` could admit,
   // into local_class_slack_.
   void MeasureLocal(int config, std::span<const int64_t> q, const IntBox& start_box,
@@ -90,6 +107,16 @@ class WalkSlack {
   EntityId local_entity_ = kNoId;
   std::vector<BlockChart> charts_;
   std::vector<ArcId> local_negative_arcs_;
+  // The part's one frame, computed on the first q with negative arcs (nothing without one), and
+  // on the current q every node's coordinates in it and the corner boxes of the blocks around
+  // negative arcs, if there are at most kMaxScannedBlocks of those (else none).
+  static constexpr size_t kMaxScannedBlocks = 256;
+  bool frame_computed_ = false;
+  std::optional<GlobalFrame> frame_;
+  std::vector<IntVec3> coordinates_;
+  std::vector<BlockId> negative_blocks_;
+  std::vector<IntBox> negative_block_boxes_;
+  bool scan_negative_blocks_ = false;
 };
 
 }  // namespace ispq

@@ -4,6 +4,7 @@
 #include "core/clean_starts.h"
 
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "gtest/gtest.h"
@@ -19,7 +20,7 @@ using ::ispq::testing::GridTMeshSpec;
 using ::ispq::testing::TMeshOrDie;
 
 constexpr int kBlocks = 6;
-// Sums of negative lengths per parallel class, as the search passes them.
+// A walk bound per axis (core/walk_slack.h) for searches on q without negative lengths.
 constexpr std::array<int64_t, 3> kNoSlack = {0, 0, 0};
 
 class CleanStartsTest : public ::testing::Test {
@@ -50,20 +51,20 @@ class CleanStartsTest : public ::testing::Test {
 // have.
 TEST_F(CleanStartsTest, ASearchStaysCleanIfNoChangeLiesWithinItsReach) {
   CleanStarts starts(mesh_, slots_, 3);
-  starts.StartSearch(Q({1, 1, 1, 1, 1, 1}), kNoSlack);
-  starts.RecordClean(0, 4);
-  starts.RecordClean(1, 5);
-  starts.RecordClean(2, 0);
-  starts.StartSearch(Q({1, 1, 1, 1, 1, 2}), kNoSlack);
-  EXPECT_TRUE(starts.StillClean(0, Origin()));
-  EXPECT_FALSE(starts.StillClean(1, Origin()));
-  EXPECT_TRUE(starts.StillClean(2, Origin()));
+  starts.StartSearch(Q({1, 1, 1, 1, 1, 1}));
+  starts.RecordClean(0, 4, kNoSlack);
+  starts.RecordClean(1, 5, kNoSlack);
+  starts.RecordClean(2, 0, kNoSlack);
+  starts.StartSearch(Q({1, 1, 1, 1, 1, 2}));
+  EXPECT_TRUE(starts.UnchangedSinceClean(0, Origin()));
+  EXPECT_FALSE(starts.UnchangedSinceClean(1, Origin()));
+  EXPECT_TRUE(starts.UnchangedSinceClean(2, Origin()));
   // Configuration 2 was not run on this q: it keeps its record, against the q before.
-  starts.RecordClean(0, 4);
+  starts.RecordClean(0, 4, kNoSlack);
   starts.Forget(1);
-  starts.StartSearch(Q({2, 1, 1, 1, 1, 2}), kNoSlack);
-  EXPECT_FALSE(starts.StillClean(0, Origin()));
-  EXPECT_FALSE(starts.StillClean(2, Origin())) << "the origin ends a changed arc";
+  starts.StartSearch(Q({2, 1, 1, 1, 1, 2}));
+  EXPECT_FALSE(starts.UnchangedSinceClean(0, Origin()));
+  EXPECT_FALSE(starts.UnchangedSinceClean(2, Origin())) << "the origin ends a changed arc";
 }
 
 // A block's positions read the arcs of its spanning tree, so a change makes every node of such a
@@ -86,44 +87,56 @@ TEST(CleanStartsOnATJunctionTest, NodesOfABlockWhosePositionsChangeAreDirty) {
     ASSERT_FALSE(from[0] == 0 && to[0] > 0) << "the corner ends no changed arc";
   }
   CleanStarts starts(mesh, slots, 1);
-  starts.StartSearch(q(1), kNoSlack);
-  starts.RecordClean(0, 0);
-  starts.StartSearch(q(1), kNoSlack);
-  EXPECT_TRUE(starts.StillClean(0, corner));
-  starts.StartSearch(q(3), kNoSlack);
-  EXPECT_FALSE(starts.StillClean(0, corner));
+  starts.StartSearch(q(1));
+  starts.RecordClean(0, 0, kNoSlack);
+  starts.StartSearch(q(1));
+  EXPECT_TRUE(starts.UnchangedSinceClean(0, corner));
+  starts.StartSearch(q(3));
+  EXPECT_FALSE(starts.UnchangedSinceClean(0, corner));
 }
 
 TEST_F(CleanStartsTest, TheSameQKeepsEveryRecord) {
   CleanStarts starts(mesh_, slots_, 1);
   const std::vector<int64_t> q = Q({1, 2, 1, 2, 1, 2});
-  starts.StartSearch(q, kNoSlack);
-  EXPECT_FALSE(starts.StillClean(0, Origin())) << "nothing recorded yet";
-  starts.RecordClean(0, CleanStarts::kMaxReach);
-  starts.StartSearch(q, kNoSlack);
-  EXPECT_TRUE(starts.StillClean(0, Origin()));
+  starts.StartSearch(q);
+  EXPECT_FALSE(starts.UnchangedSinceClean(0, Origin())) << "nothing recorded yet";
+  starts.RecordClean(0, CleanStarts::kMaxReach, kNoSlack);
+  starts.StartSearch(q);
+  EXPECT_TRUE(starts.UnchangedSinceClean(0, Origin()));
 }
 
-TEST_F(CleanStartsTest, ForgetsOnAnotherNegativeSlackAndBeyondTheLargestReach) {
+TEST_F(CleanStartsTest, ForgetsBeyondTheLargestReachAndWhatTheSinkStopped) {
   CleanStarts starts(mesh_, slots_, 3);
   const std::vector<int64_t> q = Q({1, 1, 1, 1, 1, 1});
-  starts.StartSearch(q, kNoSlack);
-  starts.RecordClean(0, 1);
-  starts.RecordClean(1, 1);
-  starts.RecordClean(2, CleanStarts::kMaxReach + 1);
-  starts.StartSearch(q, kNoSlack);
-  EXPECT_TRUE(starts.StillClean(0, Origin()));
-  EXPECT_TRUE(starts.StillClean(1, Origin()));
-  EXPECT_FALSE(starts.StillClean(2, Origin())) << "a reach above kMaxReach is not remembered";
+  starts.StartSearch(q);
+  starts.RecordClean(0, 1, kNoSlack);
+  starts.RecordClean(1, 1, kNoSlack);
+  starts.RecordClean(2, CleanStarts::kMaxReach + 1, kNoSlack);
+  starts.StartSearch(q);
+  EXPECT_TRUE(starts.UnchangedSinceClean(0, Origin()));
+  EXPECT_TRUE(starts.UnchangedSinceClean(1, Origin()));
+  EXPECT_FALSE(starts.UnchangedSinceClean(2, Origin()))
+      << "a reach above kMaxReach is not remembered";
   starts.ForgetFrom(1);
-  starts.StartSearch(q, kNoSlack);
-  EXPECT_TRUE(starts.StillClean(0, Origin()));
-  EXPECT_FALSE(starts.StillClean(1, Origin()));
-  starts.StartSearch(q, std::array<int64_t, 3>{0, 3, 0});
-  EXPECT_FALSE(starts.StillClean(0, Origin())) << "walks may get further ahead with more slack";
-  starts.RecordClean(0, 1);
-  starts.StartSearch(q, std::array<int64_t, 3>{3, 0, 0});
-  EXPECT_FALSE(starts.StillClean(0, Origin())) << "the same total in another class";
+  starts.StartSearch(q);
+  EXPECT_TRUE(starts.UnchangedSinceClean(0, Origin()));
+  EXPECT_FALSE(starts.UnchangedSinceClean(1, Origin()));
+}
+
+// A clean search stays clean under a bound no looser on any axis; a bound too large for the
+// record is kept as the largest it can hold, which errs towards running the search again.
+TEST_F(CleanStartsTest, KeepsTheWalkBoundPerAxis) {
+  CleanStarts starts(mesh_, slots_, 2);
+  starts.StartSearch(Q({1, 1, 1, 1, 1, 1}));
+  starts.RecordClean(0, 1, {2, 0, 5});
+  constexpr int64_t kHeld = std::numeric_limits<int32_t>::max();
+  starts.RecordClean(1, 1, {kHeld + 7, 0, 0});
+  EXPECT_TRUE(starts.BoundNoLooser(0, {2, 0, 5}));
+  EXPECT_TRUE(starts.BoundNoLooser(0, {0, 0, 1}));
+  EXPECT_FALSE(starts.BoundNoLooser(0, {0, 1, 0})) << "walks may get further ahead along v";
+  EXPECT_FALSE(starts.BoundNoLooser(0, {3, 0, 0}));
+  EXPECT_TRUE(starts.BoundNoLooser(1, {kHeld, 0, 0}));
+  EXPECT_FALSE(starts.BoundNoLooser(1, {kHeld + 1, 0, 0}));
 }
 
 }  // namespace

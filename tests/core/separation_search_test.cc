@@ -13,7 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "core/separation_search_tables.h"
+#include "core/walk_slack.h"
 #include "gtest/gtest.h"
+#include "tests/bench/large/large_tmesh_generator.h"
 #include "tests/support/consistent_quantizations.h"
 #include "tests/support/test_data.h"
 
@@ -437,6 +440,64 @@ TEST(SeparationSearchTest, EveryArcAtLeastOneIsSeparating) {
     }
   }
   EXPECT_GT(checked, 5);
+}
+
+// On a part with one frame (core/global_frame.h) and a q with a few negative arcs, a start none of
+// whose blocks' boxes touches a block around one is bounded by zero without placing blocks
+// (core/walk_slack.h). On an assembly part along a sequence of such q (grid intervals of 1 to 4,
+// a few of -1 moving between calls): a fresh search settles more starts at their branch-offs
+// than the classes' slack alone would, and a remembering search answers every q as a fresh one
+// that walks every start under the whole mesh's slack.
+TEST(SeparationSearchTest, StartsAwayFromNegativeArcsAreBoundedByZero) {
+  const absl::StatusOr<testing::GridTMesh> grid =
+      bench::BuildLargeTMesh(bench::LargeFamily::kAssembly16, 3000, 5);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  std::array<std::vector<int64_t>, 3> intervals;
+  for (NodeId n = 0; n < mesh.num_nodes(); ++n) {
+    for (int axis = 0; axis < 3; ++axis) {
+      const size_t extent = static_cast<size_t>(grid->node_point(n)[axis]);
+      if (intervals[axis].size() < extent) intervals[axis].resize(extent);
+    }
+  }
+  std::mt19937 random(11);
+  for (auto& axis : intervals) {
+    for (int64_t& length : axis) length = 1 + static_cast<int64_t>(random() % 4);
+  }
+  size_t compared = 0;
+  int more_settled = 0;
+  for (BlockBoxMode mode : {BlockBoxMode::kSorted, BlockBoxMode::kReferenceUnsorted}) {
+    SeparationSearch remembering(mesh, {.block_box = mode});
+    for (int step = 0; step < 6; ++step) {
+      SCOPED_TRACE(step);
+      std::array<std::vector<int64_t>, 3> negative = intervals;
+      for (int k = 0; k < 2; ++k) {
+        std::vector<int64_t>& axis = negative[random() % 3];
+        axis[random() % axis.size()] = -1;
+      }
+      const std::vector<int64_t> q = grid->QFromIntervals(negative);
+      const int64_t negative_arcs =
+          std::count_if(q.begin(), q.end(), [](int64_t x) { return x < 0; });
+      const std::vector<SeparationViolation> walked =
+          SeparationSearch(mesh, {.block_box = mode, .prune_by_parallel_slack = false})
+              .FindViolations(q);
+      compared += walked.size();
+      EXPECT_TRUE(SameViolations(remembering.FindViolations(q), walked));
+      if (negative_arcs == 0) continue;
+      SeparationSearchTables tables(mesh);
+      WalkSlack slack(mesh, tables, /*per_class=*/true);
+      slack.Measure(q);
+      int64_t settled_by_class = 0;
+      for (int config = 0; config < tables.configs().size(); ++config) {
+        settled_by_class += slack.AheadAtEveryBranchOff(config, q) ? 1 : 0;
+      }
+      SeparationSearch fresh(mesh, {.block_box = mode});
+      EXPECT_TRUE(SameViolations(fresh.FindViolations(q), walked));
+      more_settled += fresh.settled_at_branch_offs() > settled_by_class ? 1 : 0;
+    }
+  }
+  EXPECT_GT(compared, 0u);
+  EXPECT_GT(more_settled, 6);
 }
 
 }  // namespace

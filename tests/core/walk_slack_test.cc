@@ -106,7 +106,7 @@ TEST(WalkSlackTest, StartsAreSettledWhenEveryBranchOffIsLongerThanItsClassSlack)
   }
 }
 
-// The local slack of a start never exceeds its class's, is what below_class reports, and on
+// The local slack of a start never exceeds its class's (ClassBound's), and on
 // scattered negatives is below the class's for some starts of most meshes: it is a sharper bound,
 // not the same one. Without per-class pruning every axis gets the whole mesh's slack. These hold
 // for any start box; each start gets the point at its start node (a node start's box).
@@ -132,20 +132,18 @@ TEST(WalkSlackTest, LocalSlackIsAtMostTheClassSlackAndOftenBelow) {
     for (int config = 0; config < tables.configs().size(); ++config) {
       const SeparationStartConfiguration& c = tables.configs()[config];
       const IntBox start_box = PointBox({0, 0, 0});
-      const WalkSlack::StartBound bound = slack.ForStart(config, q, start_box, geometry);
-      bool below = false;
+      const std::array<int64_t, 3> bound = slack.ForStart(config, q, start_box, geometry);
+      const std::array<int64_t, 3> class_bound = slack.ClassBound(config);
       for (int axis = 0; axis < 3; ++axis) {
         const int64_t class_slack = slack.per_class()[classes.of_block_axis(c.start_block, axis)];
-        EXPECT_GE(bound.along[axis], 0);
-        EXPECT_LE(bound.along[axis], class_slack) << "configuration " << config;
-        below |= bound.along[axis] < class_slack;
+        EXPECT_EQ(class_bound[axis], class_slack);
+        EXPECT_GE(bound[axis], 0);
+        EXPECT_LE(bound[axis], class_slack) << "configuration " << config;
+        some_start_below |= bound[axis] < class_slack;
       }
-      EXPECT_EQ(bound.below_class, below) << "configuration " << config;
-      some_start_below |= below;
-      const WalkSlack::StartBound unpruned = whole.ForStart(config, q, start_box, geometry);
-      EXPECT_EQ(unpruned.along,
-                (std::array<int64_t, 3>{whole.total(), whole.total(), whole.total()}));
-      EXPECT_FALSE(unpruned.below_class);
+      const std::array<int64_t, 3> whole_mesh = {whole.total(), whole.total(), whole.total()};
+      EXPECT_EQ(whole.ForStart(config, q, start_box, geometry), whole_mesh);
+      EXPECT_EQ(whole.ClassBound(config), whole_mesh);
     }
     meshes_with_a_start_below += some_start_below;
   }
