@@ -24,12 +24,22 @@ NetworkSimplex::NetworkSimplex(int num_nodes)
 int NetworkSimplex::AddArc(int from, int to, double cost, double capacity) {
   ISPQ_RELEASE_INVARIANT(from >= 0 && from < num_nodes_ && to >= 0 && to < num_nodes_,
                          "an arc between nodes of the network");
-  ISPQ_RELEASE_INVARIANT(num_real_arcs_ == num_arcs(), "arcs are added before the solve");
+  ISPQ_RELEASE_INVARIANT(first_artificial_ < 0 || resumable_,
+                         "arcs are added before a solve or after an optimal one");
   from_.push_back(from);
   to_.push_back(to);
   cost_.push_back(cost);
   capacity_.push_back(capacity);
-  return num_real_arcs_++;
+  if (first_artificial_ >= 0) {  // waits at its lower bound
+    flow_.push_back(0.0);
+    state_.push_back(1);
+  }
+  return num_arcs() - 1;
+}
+
+void NetworkSimplex::AddSupply(int node, double amount) {
+  ISPQ_RELEASE_INVARIANT(first_artificial_ < 0, "supplies are set before the first solve");
+  supply_[node] += amount;
 }
 
 void NetworkSimplex::Link(int child, int parent) {
@@ -54,9 +64,9 @@ void NetworkSimplex::InitTree() {
   // Every node hangs from the root by an artificial arc of cost M that carries its supply (to the
   // root) or its demand (from it); M exceeds the cost of any path of real arcs, so the artificial
   // arcs carry flow at the optimum only where no feasible flow exists.
-  double max_cost = 1;
-  for (int a = 0; a < num_real_arcs_; ++a) max_cost = std::max(max_cost, std::abs(cost_[a]));
-  const double big_m = (max_cost + 1) * (num_nodes_ + 1);
+  for (int a = 0; a < num_arcs(); ++a) max_cost_ = std::max(max_cost_, std::abs(cost_[a]));
+  big_m_ = (max_cost_ + 1) * (num_nodes_ + 1);
+  first_artificial_ = num_arcs();
   const int n = num_nodes_ + 1;
   parent_.assign(n, -1);
   pred_arc_.assign(n, -1);
@@ -66,24 +76,48 @@ void NetworkSimplex::InitTree() {
   prev_sibling_.assign(n, -1);
   pred_up_.assign(n, 0);
   potential_.assign(n, 0.0);
-  flow_.assign(num_real_arcs_, 0.0);
-  state_.assign(num_real_arcs_, 1);
+  flow_.assign(num_arcs(), 0.0);
+  state_.assign(num_arcs(), 1);
   for (int v = 0; v < num_nodes_; ++v) {
     const bool gives = supply_[v] >= 0;
     from_.push_back(gives ? v : root_);
     to_.push_back(gives ? root_ : v);
-    cost_.push_back(big_m);
+    cost_.push_back(big_m_);
     capacity_.push_back(kInfinity);
     flow_.push_back(std::abs(supply_[v]));
     state_.push_back(0);
     pred_arc_[v] = num_arcs() - 1;
     pred_up_[v] = gives ? 1 : 0;
-    potential_[v] = gives ? -big_m : big_m;  // a zero reduced cost on the tree arc
+    potential_[v] = gives ? -big_m_ : big_m_;  // a zero reduced cost on the tree arc
     depth_[v] = 1;
     Link(v, root_);
   }
   block_size_ = std::max(16, static_cast<int>(std::sqrt(static_cast<double>(num_arcs()))));
   next_arc_ = 0;
+}
+
+void NetworkSimplex::ResumeTree() {
+  double max_cost = max_cost_;
+  for (int a = first_artificial_ + num_nodes_; a < num_arcs(); ++a) {
+    max_cost = std::max(max_cost, std::abs(cost_[a]));
+  }
+  if (max_cost > max_cost_) {
+    max_cost_ = max_cost;
+    big_m_ = (max_cost_ + 1) * (num_nodes_ + 1);
+    for (int a = first_artificial_; a < first_artificial_ + num_nodes_; ++a) cost_[a] = big_m_;
+    // Every tree arc has reduced cost zero again: potentials from the root down.
+    stack_.assign(1, root_);
+    while (!stack_.empty()) {
+      const int x = stack_.back();
+      stack_.pop_back();
+      for (int c = first_child_[x]; c >= 0; c = next_sibling_[c]) {
+        const int a = pred_arc_[c];
+        potential_[c] = pred_up_[c] ? potential_[x] - cost_[a] : potential_[x] + cost_[a];
+        stack_.push_back(c);
+      }
+    }
+  }
+  block_size_ = std::max(16, static_cast<int>(std::sqrt(static_cast<double>(num_arcs()))));
 }
 
 int NetworkSimplex::FindEnteringArc() {
@@ -202,8 +236,13 @@ void NetworkSimplex::UpdateSubtree(int top, double shift) {
 
 NetworkSimplex::Outcome NetworkSimplex::Solve(const std::function<bool()>& should_stop,
                                               int64_t max_pivots) {
-  ISPQ_RELEASE_INVARIANT(num_real_arcs_ == num_arcs(), "one solve per network");
-  InitTree();
+  if (first_artificial_ < 0) {
+    InitTree();
+  } else {
+    ISPQ_RELEASE_INVARIANT(resumable_, "a network is solved again only after an optimal solve");
+    ResumeTree();
+  }
+  resumable_ = false;
   while (true) {
     if (pivots_ % kPivotsPerStopCheck == 0 && pivots_ > 0 && should_stop && should_stop()) {
       return Outcome::kStopped;
@@ -218,9 +257,10 @@ NetworkSimplex::Outcome NetworkSimplex::Solve(const std::function<bool()>& shoul
   // doubles, so a balanced network may leave rounding residue there.
   double scale = 1;
   for (int v = 0; v < num_nodes_; ++v) scale = std::max(scale, std::abs(supply_[v]));
-  for (int a = num_real_arcs_; a < num_arcs(); ++a) {
+  for (int a = first_artificial_; a < first_artificial_ + num_nodes_; ++a) {
     if (flow_[a] > 1e-9 * scale) return Outcome::kInfeasible;
   }
+  resumable_ = true;
   return Outcome::kOptimal;
 }
 

@@ -12,6 +12,11 @@
 // negative reduced cost within blocks of about sqrt(arcs) arcs, going round the arc list);
 // leaving arcs by the strongly feasible tree rule, which rules out cycling on degenerate pivots.
 //
+// Arcs added after an optimal solve join at their lower bound, where the flow stays feasible, so
+// the next solve goes on from that tree (core/isp/sheet_network.h prices each split of a side row
+// this way, from a copy); if a new arc costs more than M was made for, M grows and the tree's
+// potentials are recomputed.
+//
 // Potentials are the duals of the node rows: at the optimum every arc's reduced cost
 // cost + potential(from) - potential(to) is >= 0 where the arc carries no flow and <= 0 where it
 // is full. With integer costs they are integers, and exact in doubles (M included) while the
@@ -41,12 +46,17 @@ class NetworkSimplex {
 
   int num_nodes() const { return num_nodes_; }
   int num_arcs() const { return static_cast<int>(from_.size()); }
-  // capacity >= 0, or kInfinity. Returns the arc's id.
+  // capacity >= 0, or kInfinity. Returns the arc's id. Arcs may also be added after a solve
+  // that ended kOptimal: the next Solve() starts from that solve's tree, where a new arc waits at
+  // its lower bound (the flow stays feasible), instead of from scratch.
   int AddArc(int from, int to, double cost, double capacity);
-  void AddSupply(int node, double amount) { supply_[node] += amount; }
+  // Supplies are set before the first solve.
+  void AddSupply(int node, double amount);
 
-  // Solves once (the network cannot be edited afterwards). `should_stop` is asked every few
-  // thousand pivots; a solve also stops after max_pivots pivots (0: no limit).
+  // Solves, or after a solve that ended kOptimal and new arcs, solves again from where it ended
+  // (a copy of the object keeps a tree to start several such solves from). `should_stop` is
+  // asked every few thousand pivots; a solve also stops after max_pivots pivots in all (0: no
+  // limit).
   Outcome Solve(const std::function<bool()>& should_stop, int64_t max_pivots = 0);
 
   double flow(int arc) const { return flow_[arc]; }
@@ -57,6 +67,9 @@ class NetworkSimplex {
   // The tree: each node but the root hangs from parent_ by the arc pred_arc_, which runs from the
   // node to its parent if pred_up_ (else from the parent to the node).
   void InitTree();
+  // Arcs added since the last solve join at their lower bound; if one costs more than the big-M
+  // start allows for, M grows and the potentials follow.
+  void ResumeTree();
   int FindEnteringArc();
   // The cycle the entering arc closes, its flow change and the leaving arc; false if unbounded.
   bool Pivot(int entering);
@@ -70,7 +83,10 @@ class NetworkSimplex {
 
   int num_nodes_;
   int root_;
-  int num_real_arcs_ = 0;
+  int first_artificial_ = -1;  // the artificial arcs' ids follow, one per node; -1 before a solve
+  double max_cost_ = 1;        // the largest |cost| that big_m_ covers
+  double big_m_ = 0;
+  bool resumable_ = false;  // the last solve ended kOptimal
   std::vector<int32_t> from_, to_;
   std::vector<double> cost_, capacity_, flow_;
   std::vector<double> supply_;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "core/disjoint_sets.h"
 #include "core/isp/network_simplex.h"
@@ -97,13 +99,7 @@ bool SheetNetwork::SplitRow(const InequalityRows& rows, const Split& split,
   return true;
 }
 
-SheetNetwork::Outcome SheetNetwork::SolveOnce(const InequalityRows& rows,
-                                              std::span<const Split> splits,
-                                              const LpStopCheck& should_stop, double* cost) {
-  std::vector<Difference> split_rows;
-  for (const Split& split : splits) {
-    if (!SplitRow(rows, split, &split_rows)) return Outcome::kInfeasible;
-  }
+NetworkSimplex SheetNetwork::BuildNetwork() const {
   NetworkSimplex flow(num_nodes_);
   for (size_t i = 0; i < bundles_.size(); ++i) {
     const int32_t tail = tail_node_[i], head = head_node_[i];
@@ -115,11 +111,16 @@ SheetNetwork::Outcome SheetNetwork::SolveOnce(const InequalityRows& rows,
     flow.AddSupply(tail, w.inflate);
     flow.AddSupply(head, -w.inflate);
   }
-  for (const std::vector<Difference>* list : {&differences_, &split_rows}) {
-    for (const Difference& d : *list) {
-      flow.AddArc(d.from, d.to, static_cast<double>(-d.rhs), NetworkSimplex::kInfinity);
-    }
-  }
+  for (const Difference& d : differences_) AddDifference(d, flow);
+  return flow;
+}
+
+void SheetNetwork::AddDifference(const Difference& d, NetworkSimplex& flow) {
+  flow.AddArc(d.from, d.to, static_cast<double>(-d.rhs), NetworkSimplex::kInfinity);
+}
+
+SheetNetwork::Outcome SheetNetwork::SolveOnce(NetworkSimplex& flow, const LpStopCheck& should_stop,
+                                              double* cost) {
   const NetworkSimplex::Outcome outcome =
       flow.Solve(should_stop, kMaxPivotsPerArc * (flow.num_arcs() + num_nodes_));
   switch (outcome) {
@@ -173,36 +174,44 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
       side_rows_.push_back(r);
     }
   }
-  std::vector<Split> splits;
+  // Each split adds its rows to the network its round started from; its solve starts from that
+  // network's optimal tree (the base flow stays feasible), not from scratch.
   double cost = 0;
-  Outcome outcome = SolveOnce(rows, splits, should_stop, &cost);
+  NetworkSimplex flow = BuildNetwork();
+  Outcome outcome = SolveOnce(flow, should_stop, &cost);
+  std::vector<Difference> split_rows;
   for (int round = 0; outcome == Outcome::kOptimal; ++round) {
     const int32_t violated = FirstViolatedSideRow(rows);
     if (violated == kNoId) break;
     const size_t num_terms = rows.terms(violated).size();
     if (round == kMaxSplitRounds || num_terms > kMaxSplitTerms) return Outcome::kUnanswered;
     // Price each term's split; keep the cheapest.
+    Split split{violated, 0, {}};
+    for (const LinearTerm& t : rows.terms(violated)) {
+      split.floors.push_back(t.coef * move_[local_of_bundle_[t.var]]);
+    }
     int32_t best_term = kNoId;
     double best_cost = std::numeric_limits<double>::infinity();
     std::vector<int64_t> best_move;
-    splits.push_back({violated, 0, {}});
-    for (const LinearTerm& t : rows.terms(violated)) {
-      splits.back().floors.push_back(t.coef * move_[local_of_bundle_[t.var]]);
-    }
-    for (int32_t k = 0; k < static_cast<int32_t>(num_terms); ++k) {
-      splits.back().term = k;
-      const Outcome split_outcome = SolveOnce(rows, splits, should_stop, &cost);
+    std::optional<NetworkSimplex> best_flow;
+    for (split.term = 0; split.term < static_cast<int32_t>(num_terms); ++split.term) {
+      split_rows.clear();
+      if (!SplitRow(rows, split, &split_rows)) continue;  // this split cannot hold
+      NetworkSimplex trial = flow;
+      for (const Difference& d : split_rows) AddDifference(d, trial);
+      const Outcome split_outcome = SolveOnce(trial, should_stop, &cost);
       if (split_outcome == Outcome::kStopped) return split_outcome;
       if (split_outcome == Outcome::kOptimal && cost < best_cost) {
         best_cost = cost;
-        best_term = k;
+        best_term = split.term;
         best_move = move_;
+        best_flow = std::move(trial);
       }
     }
     // No split holds: the LP may still find moves that keep the row.
     if (best_term == kNoId) return Outcome::kUnanswered;
-    splits.back().term = best_term;
     move_.swap(best_move);
+    flow = *std::move(best_flow);
   }
   // Only the first solve can fail here, without splits: its infeasibility is the LP's.
   if (outcome != Outcome::kOptimal) return outcome;

@@ -24,13 +24,13 @@
 // checked on its answer: an optimum of a relaxation that satisfies them is an optimum of the LP.
 // One that does not hold is split around the answer that violated it: every term but one keeps
 // at least what it contributes there, and that one makes up the rest, each a difference row, which
-// together imply the row; of its terms, the one whose split costs least (each priced by a solve)
-// is kept, until every row holds. The split answer is feasible for the LP but may cost more than
-// its optimum (it is an optimum of a restriction); the separating updates, where such rows are
-// violated, take it as their step, as they take the LP's vertex. If the splits do not settle within
-// a few rounds, or a difference row's rhs is not a multiple of its coefficient, the network gives
-// no answer and the LP is solved as before. Bundles outside the subproblem do not move: their
-// potentials are merged.
+// together imply the row; of its terms, the one whose split costs least (each priced by a solve
+// that starts from the optimal tree of the network without it) is kept, until every row holds. The
+// split answer is feasible for the LP but may cost more than its optimum (it is an optimum of a
+// restriction); the separating updates, where such rows are violated, take it as their step, as
+// they take the LP's vertex. If the splits do not settle within a few rounds, or a difference row's
+// rhs is not a multiple of its coefficient, the network gives no answer and the LP is solved as
+// before. Bundles outside the subproblem do not move: their potentials are merged.
 #ifndef ISPQ_CORE_ISP_SHEET_NETWORK_H_
 #define ISPQ_CORE_ISP_SHEET_NETWORK_H_
 
@@ -42,6 +42,7 @@
 #include "core/arc_bundles.h"
 #include "core/bundle_potentials.h"
 #include "core/isp/inequality_rows.h"
+#include "core/isp/network_simplex.h"
 #include "core/isp/sheet_lp.h"
 #include "core/isp/sheet_weights.h"
 #include "core/linear_terms.h"
@@ -88,10 +89,12 @@ class SheetNetwork {
   // false if one of them cannot hold (a bundle that cannot move would have to).
   bool SplitRow(const InequalityRows& rows, const Split& split,
                 std::vector<Difference>* differences) const;
-  // One flow solve over the bundles' arcs, `differences` and the splits' rows; on kOptimal,
-  // move_ and *cost hold its answer.
-  Outcome SolveOnce(const InequalityRows& rows, std::span<const Split> splits,
-                    const LpStopCheck& should_stop, double* cost);
+  // The network of the bundles' arcs and `differences_`.
+  NetworkSimplex BuildNetwork() const;
+  static void AddDifference(const Difference& d, NetworkSimplex& flow);
+  // Solves `flow` (again, after a split's rows were added); on kOptimal, move_ and *cost hold
+  // its answer.
+  Outcome SolveOnce(NetworkSimplex& flow, const LpStopCheck& should_stop, double* cost);
   // The first side row that the last answer violates, or kNoId.
   int32_t FirstViolatedSideRow(const InequalityRows& rows) const;
 

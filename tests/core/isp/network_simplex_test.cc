@@ -3,6 +3,7 @@
 // of infeasible, unbounded and stopped solves.
 #include "core/isp/network_simplex.h"
 
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -89,47 +90,89 @@ NetworkSimplex Load(const Network& network) {
   return simplex;
 }
 
+// A flow within the capacities that meets the supplies, costs CLP's optimum, and whose potentials
+// prove it (complementary slackness). Arc a of the network is arc ids[a] of the simplex (a if
+// ids is empty).
+void ExpectOptimal(const Network& network, const NetworkSimplex& simplex, double clp_optimum,
+                   const std::vector<int>& ids = {}) {
+  double objective = 0;
+  std::vector<double> balance(network.num_nodes, 0);
+  for (int a = 0; a < static_cast<int>(network.arcs.size()); ++a) {
+    const Arc& arc = network.arcs[a];
+    const double flow = simplex.flow(ids.empty() ? a : ids[a]);
+    objective += arc.cost * flow;
+    balance[arc.from] += flow;
+    balance[arc.to] -= flow;
+    EXPECT_GE(flow, -1e-9);
+    EXPECT_LE(flow, arc.capacity + 1e-9);
+    // An arc below capacity has no negative reduced cost, an arc with flow no positive one.
+    const double reduced = arc.cost + simplex.potential(arc.from) - simplex.potential(arc.to);
+    if (flow < arc.capacity - 1e-9) {
+      EXPECT_GE(reduced, -1e-9) << "arc " << a;
+    }
+    if (flow > 1e-9) {
+      EXPECT_LE(reduced, 1e-9) << "arc " << a;
+    }
+  }
+  for (int v = 0; v < network.num_nodes; ++v) EXPECT_NEAR(balance[v], network.supply[v], 1e-9);
+  EXPECT_NEAR(objective, clp_optimum, 1e-7);
+}
+
 TEST(NetworkSimplexTest, FindsClpsOptimumWithPotentialsThatProveIt) {
   std::mt19937 random(11);
   int optimal = 0, infeasible = 0;
   for (int trial = 0; trial < 300; ++trial) {
+    SCOPED_TRACE(trial);
     const Network network = RandomNetwork(random);
     NetworkSimplex simplex = Load(network);
     const NetworkSimplex::Outcome outcome = simplex.Solve(nullptr);
     const std::optional<double> clp = ClpOptimum(network);
     if (!clp.has_value()) {
-      EXPECT_EQ(outcome, NetworkSimplex::Outcome::kInfeasible) << "trial " << trial;
+      EXPECT_EQ(outcome, NetworkSimplex::Outcome::kInfeasible);
       ++infeasible;
       continue;
     }
-    ASSERT_EQ(outcome, NetworkSimplex::Outcome::kOptimal) << "trial " << trial;
+    ASSERT_EQ(outcome, NetworkSimplex::Outcome::kOptimal);
     ++optimal;
-    double objective = 0;
-    std::vector<double> balance(network.num_nodes, 0);
-    for (int a = 0; a < static_cast<int>(network.arcs.size()); ++a) {
-      const Arc& arc = network.arcs[a];
-      const double flow = simplex.flow(a);
-      objective += arc.cost * flow;
-      balance[arc.from] += flow;
-      balance[arc.to] -= flow;
-      EXPECT_GE(flow, -1e-9);
-      EXPECT_LE(flow, arc.capacity + 1e-9);
-      // Complementary slackness: an arc below capacity has no negative reduced cost, an arc with
-      // flow no positive one.
-      const double reduced = arc.cost + simplex.potential(arc.from) - simplex.potential(arc.to);
-      if (flow < arc.capacity - 1e-9) {
-        EXPECT_GE(reduced, -1e-9) << "trial " << trial;
-      }
-      if (flow > 1e-9) {
-        EXPECT_LE(reduced, 1e-9) << "trial " << trial;
-      }
-    }
-    for (int v = 0; v < network.num_nodes; ++v) EXPECT_NEAR(balance[v], network.supply[v], 1e-9);
-    EXPECT_NEAR(objective, *clp, 1e-7) << "trial " << trial;
+    ExpectOptimal(network, simplex, *clp);
   }
   // Both kinds were drawn.
   EXPECT_GT(optimal, 50);
   EXPECT_GT(infeasible, 10);
+}
+
+// Arcs added after an optimal solve: the next solve starts from its tree and ends at the optimum
+// of the whole network, also when a new arc costs more than the first solve's big M was made for
+// (costs up to 40 times the first arcs'); two copies of one solved network go on independently.
+TEST(NetworkSimplexTest, SolvingAgainAfterNewArcsFindsTheWholeNetworksOptimum) {
+  std::mt19937 random(5);
+  int resumed = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    SCOPED_TRACE(trial);
+    const Network first = RandomNetwork(random);
+    NetworkSimplex simplex = Load(first);
+    if (simplex.Solve(nullptr) != NetworkSimplex::Outcome::kOptimal) continue;
+    std::array<Network, 2> whole = {first, first};
+    std::array<NetworkSimplex, 2> extended = {simplex, simplex};
+    std::uniform_int_distribution<int> node(0, first.num_nodes - 1), cost(-360, 360);
+    for (int k = 0; k < 2; ++k) {
+      std::vector<int> ids(first.arcs.size());
+      for (size_t a = 0; a < ids.size(); ++a) ids[a] = static_cast<int>(a);
+      for (int extra = 0; extra < 3; ++extra) {
+        Arc arc{node(random), node(random), static_cast<double>(cost(random)), 4};
+        if (arc.from == arc.to) continue;
+        if (arc.cost >= 0 && extra == 0) arc.capacity = NetworkSimplex::kInfinity;
+        whole[k].arcs.push_back(arc);
+        ids.push_back(extended[k].AddArc(arc.from, arc.to, arc.cost, arc.capacity));
+      }
+      ASSERT_EQ(extended[k].Solve(nullptr), NetworkSimplex::Outcome::kOptimal);
+      const std::optional<double> clp = ClpOptimum(whole[k]);
+      ASSERT_TRUE(clp.has_value());
+      ExpectOptimal(whole[k], extended[k], *clp, ids);
+      ++resumed;
+    }
+  }
+  EXPECT_GT(resumed, 100);
 }
 
 TEST(NetworkSimplexTest, ANegativeCycleOfUnlimitedCapacityIsUnbounded) {
