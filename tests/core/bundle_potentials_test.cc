@@ -20,12 +20,6 @@ using testing::GridBox;
 using testing::GridTMesh;
 using testing::GridTMeshSpec;
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
-  EXPECT_TRUE(grid.ok()) << grid.status();
-  return *std::move(grid);
-}
-
 std::optional<BundlePotentials> PotentialsOf(const TMesh& mesh) {
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
@@ -41,7 +35,7 @@ GridTMeshSpec LShape() {
 }
 
 TEST(BundlePotentialsTest, ConsistentQuantizationsAreExactlyPotentialDifferences) {
-  const GridTMesh grid = BuildOrDie(LShape());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(LShape());
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const ConsistencyMatrix consistency(mesh);
   const ArcBundles bundles(mesh, consistency);
@@ -107,11 +101,12 @@ TEST(BundlePotentialsTest, AHandleLeavesConsistentQuantizationsThatAreNoDifferen
       if (x != 1 || y != 1) spec.blocks.push_back(GridBox{{x, y, 0}, {x + 1, y + 1, 1}});
     }
   }
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   EXPECT_FALSE(PotentialsOf(testing::TMeshOrDie(grid.proto())).has_value());
   // Closing the hole makes the same blocks a solid without a handle.
   spec.blocks.push_back(GridBox{{1, 1, 0}, {2, 2, 1}});
-  EXPECT_TRUE(PotentialsOf(testing::TMeshOrDie(BuildOrDie(spec).proto())).has_value());
+  EXPECT_TRUE(
+      PotentialsOf(testing::TMeshOrDie(testing::BuildGridTMeshOrDie(spec).proto())).has_value());
 }
 
 TEST(BundlePotentialsTest, RealMeshesHaveThemOnlyWithGlobalFramesAndNoHandle) {

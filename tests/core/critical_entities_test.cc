@@ -23,12 +23,6 @@ using ::ispq::testing::GridTMesh;
 using ::ispq::testing::GridTMeshSpec;
 using ::testing::UnorderedElementsAre;
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> mesh = BuildGridTMesh(spec);
-  EXPECT_TRUE(mesh.ok()) << mesh.status();
-  return *std::move(mesh);
-}
-
 // The entity list a file carries, in the derived form (regions compare no nodes).
 std::vector<CriticalEntity> ListedEntities(const v1::TMesh& proto) {
   std::vector<CriticalEntity> entities;
@@ -98,7 +92,7 @@ void ExpectEntitiesPartitionTheCriticalElements(const TMesh& mesh,
 TEST(CriticalEntitiesTest, TwoBlocksMakeLinksThroughWallNodesAndTwoPatchRegions) {
   GridTMeshSpec spec;
   spec.blocks = {{{0, 0, 0}, {1, 1, 1}}, {{1, 0, 0}, {2, 1, 1}}};
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const std::vector<CriticalEntity> entities = DeriveCriticalEntities(mesh);
   ASSERT_EQ(entities.size(), 8u + 12u + 6u);
@@ -158,7 +152,7 @@ TEST(CriticalEntitiesTest, ALoopOfFeatureArcsWithoutCriticalNodesIsACyclicLink) 
   }
   const GridPoint a = {1, 1, 1}, b = {2, 1, 1}, c = {2, 2, 1}, d = {1, 2, 1};
   spec.feature_arcs = {{a, b}, {b, c}, {d, c}, {a, d}};
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   for (const GridPoint& p : {a, b, c, d}) EXPECT_FALSE(mesh.node_critical(grid.NodeAt(p)));
   const std::vector<CriticalEntity> entities = DeriveCriticalEntities(mesh);

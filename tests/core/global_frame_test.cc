@@ -21,12 +21,6 @@ using testing::GridBox;
 using testing::GridTMesh;
 using testing::GridTMeshSpec;
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
-  EXPECT_TRUE(grid.ok()) << grid.status();
-  return *std::move(grid);
-}
-
 // Sums of the first k intervals of each axis.
 IntVec3 SumOfIntervals(const std::array<std::vector<int64_t>, 3>& intervals,
                        const testing::GridPoint& at) {
@@ -43,7 +37,7 @@ TEST(GlobalFrameTest, GridPartsHaveTheirGridCoordinates) {
   GridTMeshSpec spec;
   spec.blocks = {GridBox{{0, 0, 0}, {1, 1, 1}}, GridBox{{1, 0, 0}, {2, 1, 1}},
                  GridBox{{0, 1, 0}, {2, 2, 1}}, GridBox{{0, 0, 1}, {1, 2, 2}}};
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const std::optional<GlobalFrame> frame = GlobalFrame::Compute(mesh);
   ASSERT_TRUE(frame.has_value());
@@ -68,7 +62,7 @@ TEST(GlobalFrameTest, AHandlesPeriodLeavesNoCoordinates) {
       if (x != 1 || y != 1) spec.blocks.push_back(GridBox{{x, y, 0}, {x + 1, y + 1, 1}});
     }
   }
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const std::optional<GlobalFrame> frame = GlobalFrame::Compute(mesh);
   ASSERT_TRUE(frame.has_value());

@@ -29,12 +29,6 @@ using ::testing::HasSubstr;
 
 constexpr FeaturesPresent kAllFeatures = {.nodes = true, .arcs = true, .patches = true};
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
-  EXPECT_TRUE(grid.ok()) << grid.status();
-  return *std::move(grid);
-}
-
 // Two unit blocks side by side along u; their shared wall is u = 1.
 GridTMeshSpec TwoBlocks() {
   GridTMeshSpec spec;
@@ -81,7 +75,7 @@ std::vector<NodeTypes> DeclaredTypes(const v1::TMesh& proto) {
 TEST(TMeshCriticalityChecksTest, BuiltMeshesPass) {
   for (const GridTMeshSpec& spec :
        {TwoBlocks(), FourBlocksAroundAnArc(), FeatureArcsAtAWallCorner(), FeatureWall()}) {
-    const GridTMesh grid = BuildOrDie(spec);
+    const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
     const TMesh mesh = testing::TMeshOrDie(grid.proto());
     EXPECT_TRUE(CheckArcSingularity(mesh).ok());
     EXPECT_TRUE(CheckCriticalNodes(mesh, kAllFeatures).ok());
@@ -94,7 +88,7 @@ TEST(TMeshCriticalityChecksTest, BuiltMeshesPass) {
 // present.arcs decides whether the feature-arc rules count: a node critical only through them
 // contradicts its flag once the source says it has no feature arcs.
 TEST(TMeshCriticalityChecksTest, FeatureArcRulesApplyOnlyWhenTheSourceHasFeatureArcs) {
-  const GridTMesh grid = BuildOrDie(FeatureArcsAtAWallCorner());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(FeatureArcsAtAWallCorner());
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const NodeId corner = grid.NodeAt({1, 0, 0});
   ASSERT_TRUE(mesh.node_critical(corner));
@@ -108,7 +102,7 @@ TEST(TMeshCriticalityChecksTest, FeatureArcRulesApplyOnlyWhenTheSourceHasFeature
 }
 
 TEST(TMeshCriticalityChecksTest, FeaturePatchRuleAppliesOnlyWhenTheSourceHasFeaturePatches) {
-  const GridTMesh grid = BuildOrDie(FeatureWall());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(FeatureWall());
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const NodeId corner = grid.NodeAt({1, 0, 0});
   ASSERT_TRUE(mesh.node_critical(corner));
@@ -121,7 +115,7 @@ TEST(TMeshCriticalityChecksTest, FeaturePatchRuleAppliesOnlyWhenTheSourceHasFeat
 }
 
 TEST(TMeshCriticalityChecksTest, NodeTypesThatDifferFromTheMarksAreNamed) {
-  const GridTMesh grid = BuildOrDie(FeatureArcsAtAWallCorner());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(FeatureArcsAtAWallCorner());
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const NodeId corner = grid.NodeAt({1, 0, 0});
   const NodeId box_corner = grid.NodeAt({0, 0, 0});
@@ -159,7 +153,7 @@ TEST(TMeshCriticalityChecksTest, NodeTypesThatDifferFromTheMarksAreNamed) {
 }
 
 TEST(TMeshCriticalityChecksTest, AListedEntityListMustBeTheDerivedOne) {
-  const TMesh mesh = testing::TMeshOrDie(BuildOrDie(TwoBlocks()).proto());
+  const TMesh mesh = testing::TMeshOrDie(testing::BuildGridTMeshOrDie(TwoBlocks()).proto());
   const std::vector<CriticalEntity> derived = DeriveCriticalEntities(mesh);
   ASSERT_GE(derived.size(), 3u);
   // An empty list is "none sent": nothing to compare.
@@ -192,7 +186,7 @@ std::string LoadError(const v1::TMesh& proto) {
 }
 
 TEST(TMeshCriticalityChecksTest, ArcFlagsContradictingTheBlocksAroundAreNamed) {
-  const GridTMesh grid = BuildOrDie(FourBlocksAroundAnArc());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(FourBlocksAroundAnArc());
   // Interior, four blocks around: regular.
   const int interior = grid.ArcBetween({1, 1, 0}, {1, 1, 1});
   // On the boundary between two blocks: regular. On a box edge, one block: singular.

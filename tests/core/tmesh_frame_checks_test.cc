@@ -28,12 +28,6 @@ using testing::GridTMesh;
 using testing::GridTMeshSpec;
 using ::testing::HasSubstr;
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
-  EXPECT_TRUE(grid.ok()) << grid.status();
-  return *std::move(grid);
-}
-
 // Block 0 is [0,2] x [0,1] x [0,1]; blocks 1 and 2 sit on its POS_W face, one per half in u,
 // so that its u-edges on that face are chains of two arcs and the face has two patches.
 GridTMeshSpec TJunction() {
@@ -92,7 +86,7 @@ TEST(TMeshFrameChecksTest, BuiltMeshesPass) {
   GridTMeshSpec rotated = TJunction();
   rotated.block_rotations = {{0, 9}, {2, 17}};
   for (const GridTMeshSpec& spec : {TJunction(), rotated}) {
-    const TMesh mesh = testing::TMeshOrDie(BuildOrDie(spec).proto());
+    const TMesh mesh = testing::TMeshOrDie(testing::BuildGridTMeshOrDie(spec).proto());
     EXPECT_TRUE(CheckPatchFrames(mesh).ok());
     EXPECT_TRUE(CheckBlockEdgeChains(mesh, EdgeHalfarcs(mesh), InCodeOrder(mesh)).ok());
     EXPECT_TRUE(CheckBlockCoordinates(mesh, 1e-9).ok());
@@ -100,7 +94,7 @@ TEST(TMeshFrameChecksTest, BuiltMeshesPass) {
 }
 
 TEST(TMeshFrameChecksTest, AnEdgeRunningBackwardsOrStoppingShortIsNamed) {
-  const TMesh mesh = testing::TMeshOrDie(BuildOrDie(TJunction()).proto());
+  const TMesh mesh = testing::TMeshOrDie(testing::BuildGridTMeshOrDie(TJunction()).proto());
   const FlatLists<HalfarcId> edges = EdgeHalfarcs(mesh);
   const std::vector<int8_t> order = InCodeOrder(mesh);
   // Edge codes 0..3 run along u; block 0's are chains of two arcs on the POS_W face.
@@ -124,7 +118,7 @@ TEST(TMeshFrameChecksTest, AnEdgeRunningBackwardsOrStoppingShortIsNamed) {
 
 // With two broken edges, the one the source listed first is reported.
 TEST(TMeshFrameChecksTest, EdgesAreCheckedInTheSourcesOrder) {
-  const TMesh mesh = testing::TMeshOrDie(BuildOrDie(TJunction()).proto());
+  const TMesh mesh = testing::TMeshOrDie(testing::BuildGridTMeshOrDie(TJunction()).proto());
   const FlatLists<HalfarcId> edges = EdgeHalfarcs(mesh);
   constexpr int kU = 0, kW = 8;  // an edge along u and one along w, both of block 0
   const std::vector<HalfarcId> u_reversed = {edges[kU].back() ^ 1};
@@ -139,7 +133,7 @@ TEST(TMeshFrameChecksTest, EdgesAreCheckedInTheSourcesOrder) {
 }
 
 TEST(TMeshFrameChecksTest, ACycleArcMissingFromABlockIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int a = grid.ArcBetween({0, 0, 1}, {0, 1, 1});  // on block 0's POS_W face
   v1::TMesh proto = grid.proto();
   for (v1::DirectedArcs& entry : *proto.mutable_blocks(0)->mutable_arcs_by_dir()) {
@@ -163,7 +157,7 @@ TEST(TMeshFrameChecksTest, ACycleArcMissingFromABlockIsNamed) {
 
 // A patch moved, in its own sides and in its block's face lists, to a face its arcs cross.
 TEST(TMeshFrameChecksTest, APatchOnAFaceItsArcsCrossIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int p = grid.PatchAt({{0, 0, 1}, {1, 1, 1}});
   ASSERT_NE(p, -1);
   v1::TMesh proto = grid.proto();
@@ -187,7 +181,7 @@ TEST(TMeshFrameChecksTest, APatchOnAFaceItsArcsCrossIsNamed) {
 // Two adjacent sides with their directions exchanged: still two opposite pairs of equal
 // lengths (the patch is a unit square), but each runs along the other's direction.
 TEST(TMeshFrameChecksTest, ASideRunningAlongAnotherDirectionIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int p = grid.PatchAt({{0, 0, 0}, {0, 1, 1}});
   v1::TMesh proto = grid.proto();
   auto* sides = proto.mutable_patches(p)->mutable_halfarcs_by_dir();
@@ -206,7 +200,7 @@ TEST(TMeshFrameChecksTest, NodeCoordinatesMustMatchArcLengthsUpToARelativeTolera
   GridTMeshSpec spec;
   spec.blocks = {{{0, 0, 0}, {1, 1, 1}}};
   spec.spacing = {{{1000.0}, {1000.0}, {1000.0}}};  // coordinates up to 1000
-  const GridTMesh grid = BuildOrDie(spec);
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMeshValidationOptions tight{.length_tolerance = 1e-6};
   // 1e-4 off at a coordinate of 1000: 1e-7 relative, inside the tolerance (absolute 1e-3).
   const auto shifted = [&grid](double by) {

@@ -25,12 +25,6 @@ using testing::GridTMesh;
 using testing::GridTMeshSpec;
 using ::testing::HasSubstr;
 
-GridTMesh BuildOrDie(const GridTMeshSpec& spec) {
-  absl::StatusOr<GridTMesh> grid = testing::BuildGridTMesh(spec);
-  EXPECT_TRUE(grid.ok()) << grid.status();
-  return *std::move(grid);
-}
-
 // Block 0 is [0,1] x [0,2] x [0,1]; blocks 1 and 2 sit on its POS_U face, one per half, so that
 // face has two patches.
 GridTMeshSpec TJunction() {
@@ -50,7 +44,7 @@ TEST(TMeshIncidenceChecksTest, BuiltMeshesPass) {
   GridTMeshSpec rotated = TJunction();
   rotated.block_rotations = {{1, 7}, {2, 13}};
   for (const GridTMeshSpec& spec : {TJunction(), rotated}) {
-    const TMesh mesh = testing::TMeshOrDie(BuildOrDie(spec).proto());
+    const TMesh mesh = testing::TMeshOrDie(testing::BuildGridTMeshOrDie(spec).proto());
     EXPECT_TRUE(CheckNodeArcIncidence(mesh).ok());
     EXPECT_TRUE(CheckArcPatchIncidence(mesh).ok());
     EXPECT_TRUE(CheckPatchBlockIncidence(mesh).ok());
@@ -59,7 +53,7 @@ TEST(TMeshIncidenceChecksTest, BuiltMeshesPass) {
 }
 
 TEST(TMeshIncidenceChecksTest, AnOutgoingHalfarcListedTwiceIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int n = grid.NodeAt({1, 1, 0});
   v1::TMesh proto = grid.proto();
   const int32_t h = proto.nodes(n).outgoing_halfarcs(0);
@@ -71,7 +65,7 @@ TEST(TMeshIncidenceChecksTest, AnOutgoingHalfarcListedTwiceIsNamed) {
 // An arc that lists the halfpatch of a patch whose cycle does not contain it, on top of its own:
 // the message lists both sets.
 TEST(TMeshIncidenceChecksTest, AnArcListingAnExtraHalfpatchIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int a = grid.ArcBetween({0, 0, 0}, {0, 0, 1});
   const int far = grid.PatchAt({{2, 1, 0}, {2, 2, 1}});
   v1::TMesh proto = grid.proto();
@@ -83,7 +77,7 @@ TEST(TMeshIncidenceChecksTest, AnArcListingAnExtraHalfpatchIsNamed) {
 }
 
 TEST(TMeshIncidenceChecksTest, AFaceThatDoesNotListItsPatchIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int p = grid.PatchAt({{1, 0, 0}, {1, 1, 1}});
   ASSERT_NE(p, -1);
   v1::TMesh proto = grid.proto();
@@ -105,7 +99,7 @@ TEST(TMeshIncidenceChecksTest, AFaceThatDoesNotListItsPatchIsNamed) {
 // Block 0 lists, with consistent coordinates, an arc of block 1's far face that it does not
 // touch: only the arc -> blocks check sees it.
 TEST(TMeshIncidenceChecksTest, ABlockListingAnArcItIsNotAroundIsNamed) {
-  const GridTMesh grid = BuildOrDie(TJunction());
+  const GridTMesh grid = testing::BuildGridTMeshOrDie(TJunction());
   const int a = grid.ArcBetween({2, 0, 0}, {2, 1, 0});
   ASSERT_NE(a, -1);
   v1::TMesh proto = grid.proto();

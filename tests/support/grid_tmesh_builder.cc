@@ -5,7 +5,9 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <initializer_list>
+#include <iostream>
 #include <map>
 #include <set>
 #include <string>
@@ -1022,6 +1024,15 @@ std::vector<int64_t> GridTMesh::QFromIntervals(
 
 absl::StatusOr<GridTMesh> BuildGridTMesh(const GridTMeshSpec& spec) {
   return GridTMeshBuilder(spec).Build();
+}
+
+GridTMesh BuildGridTMeshOrDie(const GridTMeshSpec& spec) {
+  absl::StatusOr<GridTMesh> grid = BuildGridTMesh(spec);
+  if (!grid.ok()) {
+    std::cerr << "invalid grid spec " << spec.name << ": " << grid.status() << "\n";
+    std::abort();
+  }
+  return *std::move(grid);
 }
 
 GridTMeshSpec ExtrudeLayout(const GridLayout2D& layout) {

@@ -102,6 +102,9 @@ class GridTMesh {
 };
 
 absl::StatusOr<GridTMesh> BuildGridTMesh(const GridTMeshSpec& spec);
+// BuildGridTMesh of a spec the test knows to be valid: the test binary aborts with the error
+// otherwise.
+GridTMesh BuildGridTMeshOrDie(const GridTMeshSpec& spec);
 
 // A 2D layout (rectangles in (u, v)) extruded by one block layer along w, the way core/README.md,
 // section Cases with known answers (T8), turns its 2D examples into T-meshes: every rectangle
