@@ -135,9 +135,11 @@ class SeparationSearch::Impl {
   // (core/clean_starts.h).
   bool StillClean(int config, std::span<const int64_t> q);
 
-  // One search (core/README.md, section Walks and their order); true and `violation` filled on the
-  // first hit, else the search's reach is left in reach_ (core/clean_starts.h).
-  bool Search(int config, std::span<const int64_t> q, SeparationViolation& violation);
+  // One search from `config`, whose start box is `start_box` (StartBox; core/README.md, section
+  // Walks and their order); true and `violation` filled on the first hit, else the search's
+  // reach is left in reach_ (core/clean_starts.h).
+  bool Search(int config, const IntBox& start_box, std::span<const int64_t> q,
+              SeparationViolation& violation);
   void Push(const Walk& walk);
 
   void BuildFan(const Walk& walk, bool at_start_box);
@@ -301,10 +303,10 @@ int64_t SeparationSearch::Impl::FindViolations(
       ++skipped_starts_;
       continue;
     }
+    const IntBox start_box = StartBox(config, q);
     const std::optional<std::array<int64_t, 3>> settling =
-        options_.prune_by_parallel_slack
-            ? walk_slack_.BoundSettlingBranchOffs(config, q, StartBox(config, q))
-            : std::nullopt;
+        options_.prune_by_parallel_slack ? walk_slack_.BoundSettlingBranchOffs(config, q, start_box)
+                                         : std::nullopt;
     if (settling.has_value()) {
       ++settled_at_branch_offs_;
       // A node start's walk would have expanded its start node alone (reach 0) and read the one
@@ -317,7 +319,7 @@ int64_t SeparationSearch::Impl::FindViolations(
       }
       continue;
     }
-    if (!Search(config, q, violation)) {
+    if (!Search(config, start_box, q, violation)) {
       clean_starts_.RecordClean(config, reach_, walk_bound_);
       continue;
     }
@@ -343,9 +345,9 @@ bool SeparationSearch::Impl::StillClean(int config, std::span<const int64_t> q) 
   return clean_starts_.BoundNoLooser(config, walk_bound_);
 }
 
-bool SeparationSearch::Impl::Search(int config, std::span<const int64_t> q,
+bool SeparationSearch::Impl::Search(int config, const IntBox& start_box, std::span<const int64_t> q,
                                     SeparationViolation& violation) {
-  box_ = StartBox(config, q);
+  box_ = start_box;
   const SeparationStartConfiguration& c = configs_[config];
   reach_ = c.is_link ? static_cast<int>(mesh_.entity_halfarcs(c.entity).size()) : 0;
   walk_bound_ = {};  // set by BoundWalks; a start returned from before bounds no walk

@@ -190,7 +190,6 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
     for (const LinearTerm& t : rows.terms(violated)) {
       split.floors.push_back(t.coef * move_[local_of_bundle_[t.var]]);
     }
-    int32_t best_term = kNoId;
     double best_cost = std::numeric_limits<double>::infinity();
     std::vector<int64_t> best_move;
     std::optional<NetworkSimplex> best_flow;
@@ -203,13 +202,12 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
       if (split_outcome == Outcome::kStopped) return split_outcome;
       if (split_outcome == Outcome::kOptimal && cost < best_cost) {
         best_cost = cost;
-        best_term = split.term;
         best_move = move_;
         best_flow = std::move(trial);
       }
     }
     // No split holds: the LP may still find moves that keep the row.
-    if (best_term == kNoId) return Outcome::kUnanswered;
+    if (!best_flow.has_value()) return Outcome::kUnanswered;
     move_.swap(best_move);
     flow = *std::move(best_flow);
   }

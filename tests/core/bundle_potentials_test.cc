@@ -95,12 +95,7 @@ TEST(BundlePotentialsTest, ConsistentQuantizationsAreExactlyPotentialDifferences
 TEST(BundlePotentialsTest, AHandleLeavesConsistentQuantizationsThatAreNoDifferences) {
   // A ring of eight blocks around a hole: the two sides of the hole may differ in length under
   // consistency alone, which no potentials express.
-  GridTMeshSpec spec;
-  for (int x = 0; x < 3; ++x) {
-    for (int y = 0; y < 3; ++y) {
-      if (x != 1 || y != 1) spec.blocks.push_back(GridBox{{x, y, 0}, {x + 1, y + 1, 1}});
-    }
-  }
+  GridTMeshSpec spec = testing::RingAroundAHole();
   const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   EXPECT_FALSE(PotentialsOf(testing::TMeshOrDie(grid.proto())).has_value());
   // Closing the hole makes the same blocks a solid without a handle.

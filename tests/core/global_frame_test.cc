@@ -56,12 +56,7 @@ TEST(GlobalFrameTest, GridPartsHaveTheirGridCoordinates) {
 // A ring of eight blocks around a hole has one frame, but the two sides of the hole may differ
 // in length: such a q is no difference of coordinates.
 TEST(GlobalFrameTest, AHandlesPeriodLeavesNoCoordinates) {
-  GridTMeshSpec spec;
-  for (int x = 0; x < 3; ++x) {
-    for (int y = 0; y < 3; ++y) {
-      if (x != 1 || y != 1) spec.blocks.push_back(GridBox{{x, y, 0}, {x + 1, y + 1, 1}});
-    }
-  }
+  GridTMeshSpec spec = testing::RingAroundAHole();
   const GridTMesh grid = testing::BuildGridTMeshOrDie(spec);
   const TMesh mesh = testing::TMeshOrDie(grid.proto());
   const std::optional<GlobalFrame> frame = GlobalFrame::Compute(mesh);

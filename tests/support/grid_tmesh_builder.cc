@@ -1035,6 +1035,17 @@ GridTMesh BuildGridTMeshOrDie(const GridTMeshSpec& spec) {
   return *std::move(grid);
 }
 
+GridTMeshSpec RingAroundAHole() {
+  GridTMeshSpec spec;
+  spec.name = "ring";
+  for (int x = 0; x < 3; ++x) {
+    for (int y = 0; y < 3; ++y) {
+      if (x != 1 || y != 1) spec.blocks.push_back(GridBox{{x, y, 0}, {x + 1, y + 1, 1}});
+    }
+  }
+  return spec;
+}
+
 GridTMeshSpec ExtrudeLayout(const GridLayout2D& layout) {
   GridTMeshSpec spec;
   spec.name = layout.name;

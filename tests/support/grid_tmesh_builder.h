@@ -106,6 +106,10 @@ absl::StatusOr<GridTMesh> BuildGridTMesh(const GridTMeshSpec& spec);
 // otherwise.
 GridTMesh BuildGridTMeshOrDie(const GridTMeshSpec& spec);
 
+// Eight unit blocks of one layer around the empty middle of a 3 x 3 square: a part with a handle
+// (the two sides of the hole may differ in length under consistency alone).
+GridTMeshSpec RingAroundAHole();
+
 // A 2D layout (rectangles in (u, v)) extruded by one block layer along w, the way core/README.md,
 // section Cases with known answers (T8), turns its 2D examples into T-meshes: every rectangle
 // becomes the block [lo, hi] x [0, 1], the faces w = 0 and w = 1 are boundary. A 2D feature node
