@@ -62,7 +62,7 @@ std::optional<BundlePotentials> BundlePotentials::Compute(const TMesh& mesh,
                                                           const ConsistencyMatrix& consistency,
                                                           const ArcBundles& bundles) {
   std::optional<DisjointSets> dirs = GlobalBlockDirections(mesh);
-  if (!dirs.has_value() || FirstBettiNumber(mesh) != 0) return std::nullopt;
+  if (!dirs.has_value()) return std::nullopt;
   // Per arc: its global axis as a slot 0..2 (the axis in the first block of its part) and whether
   // it runs along that axis's negative direction.
   std::vector<int8_t> slot_of_set(6 * mesh.num_blocks(), -1);
@@ -127,6 +127,12 @@ std::optional<BundlePotentials> BundlePotentials::Compute(const TMesh& mesh,
     }
     MergeRepeatedTerms(terms);
     if (!terms.empty()) return std::nullopt;
+  }
+  if (FirstBettiNumber(mesh) != 0) {
+    std::optional<PotentialPeriods> periods = FindPotentialPeriods(
+        potentials.num_potentials_, potentials.tail_, potentials.head_, consistency, bundles);
+    if (!periods.has_value()) return std::nullopt;
+    potentials.periods_ = *std::move(periods);
   }
   return potentials;
 }

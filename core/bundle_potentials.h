@@ -23,11 +23,13 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
 #include "core/disjoint_sets.h"
+#include "core/potential_periods.h"
 #include "core/tmesh.h"
 
 namespace ispq {
@@ -45,15 +47,21 @@ class BundlePotentials {
                                                  const ArcBundles& bundles);
 
   int num_potentials() const { return num_potentials_; }
-  // q of every arc of bundle b is U[head(b)] - U[tail(b)].
+  // q of every arc of bundle b is U[head(b)] - U[tail(b)] plus coef * P[var] for each of its
+  // period terms.
   int32_t tail(BundleId b) const { return tail_[b]; }
   int32_t head(BundleId b) const { return head_[b]; }
+  int32_t num_periods() const { return periods_.num_periods; }
+  std::span<const LinearTerm> periods(BundleId b) const {
+    return periods_.num_periods == 0 ? std::span<const LinearTerm>() : periods_.terms[b];
+  }
 
  private:
   BundlePotentials() = default;
 
   int32_t num_potentials_ = 0;
   std::vector<int32_t> tail_, head_;
+  PotentialPeriods periods_;  // none where the part has no handle
 };
 
 }  // namespace ispq

@@ -27,10 +27,12 @@
 namespace ispq {
 namespace {
 
-// A request for the bulk descent's LP (SheetRequest::unit_moves) in the given directions.
-SheetRequest UnitMoves(bool allow_inflation, bool allow_deflation) {
+// A request for the bulk descent's LP (SheetRequest::unit_moves) in the given directions; a
+// thorough pass's has the LP confirm a stalled flow (SheetRequest::confirm_stalled_flow).
+SheetRequest UnitMoves(bool allow_inflation, bool allow_deflation, bool thorough) {
   SheetRequest request;
   request.unit_moves = true;
+  request.confirm_stalled_flow = thorough;
   request.weights = WeightScheme::kUnitCost;
   request.allow_inflation = allow_inflation;
   request.allow_deflation = allow_deflation;
@@ -115,8 +117,9 @@ class IntegerSheetPump {
   // IspTuning::away_checks_max_bundles, the other way); true if a sheet was accepted.
   absl::StatusOr<bool> PumpRoot(BundleId root, bool thorough);
   // The greedy pass of the subproblems that descend in bulk (IspTuning::bulk_descent_min_bundles):
-  // the best combination of unit moves, applied until none improves; true if one was.
-  absl::StatusOr<bool> BulkDescent(QuantizationPhase phase);
+  // the best combination of unit moves, applied until none improves; true if one was. In a
+  // thorough pass, none improves by the LP's word too.
+  absl::StatusOr<bool> BulkDescent(bool thorough, QuantizationPhase phase);
   bool DescendsInBulk(const SheetSubproblem& subproblem) const {
     return subproblem.bundles().size() >= static_cast<size_t>(tuning_.bulk_descent_min_bundles);
   }
@@ -258,7 +261,7 @@ absl::StatusOr<bool> IntegerSheetPump::Greedy(bool thorough, QuantizationPhase p
   const double bundles = quantization_.num_bundles();
   const double skip_limit = std::max(kSkipFraction * bundles, double{1} * kMinSkip);
   const double idle_skip_limit = std::min(skip_limit, kIdleSkipBase + kIdleSkipFraction * bundles);
-  ISPQ_ASSIGN_OR_RETURN(bool changed, BulkDescent(phase));
+  ISPQ_ASSIGN_OR_RETURN(bool changed, BulkDescent(thorough, phase));
   if (clock_.stopped()) return changed;
   int64_t skipped = 0;
   // One pass: the queue holds the roots that every sheet applied since they were last pumped (in
@@ -329,7 +332,7 @@ absl::StatusOr<bool> IntegerSheetPump::PumpRoot(BundleId root, bool thorough) {
   return false;
 }
 
-absl::StatusOr<bool> IntegerSheetPump::BulkDescent(QuantizationPhase phase) {
+absl::StatusOr<bool> IntegerSheetPump::BulkDescent(bool thorough, QuantizationPhase phase) {
   bool changed = false;
   for (const int32_t id : subproblems_.Ids()) {
     SheetSubproblem& subproblem = subproblems_.at(id);
@@ -342,8 +345,9 @@ absl::StatusOr<bool> IntegerSheetPump::BulkDescent(QuantizationPhase phase) {
       progress = false;
       for (const auto& [inflation, deflation] : modes) {
         while (true) {
-          ISPQ_ASSIGN_OR_RETURN(const bool found,
-                                steps_.Find(subproblem, UnitMoves(inflation, deflation), &step_));
+          ISPQ_ASSIGN_OR_RETURN(
+              const bool found,
+              steps_.Find(subproblem, UnitMoves(inflation, deflation, thorough), &step_));
           if (clock_.stopped()) return changed;
           if (!found || step_.gain >= -Tolerance()) break;
           Apply(step_);
@@ -452,8 +456,9 @@ absl::StatusOr<bool> IntegerSheetPump::SeparateSubproblem(int32_t id) {
   // A subproblem that descends in bulk first tries the bulk LP with the violated rows in it: the
   // best combination of unit moves that satisfies them, on the LP the descent keeps warm.
   if (DescendsInBulk(subproblems_.at(id))) {
-    ISPQ_ASSIGN_OR_RETURN(const bool applied,
-                          ApplySeparatingStep(id, UnitMoves(true, options_.mixed_sign)));
+    ISPQ_ASSIGN_OR_RETURN(
+        const bool applied,
+        ApplySeparatingStep(id, UnitMoves(true, options_.mixed_sign, /*thorough=*/false)));
     if (applied) return true;
   }
   // Default mode (deflation allowed), then the non-deflating mode (7g). Without mixed-sign

@@ -12,6 +12,7 @@
 #include "core/isp/sheet_weights.h"
 #include "gtest/gtest.h"
 #include "tests/bench/large/large_tmesh_generator.h"
+#include "tests/support/grid_tmesh_builder.h"
 #include "tests/support/sheet_lp_fixture.h"
 #include "tests/support/test_data.h"
 
@@ -65,21 +66,28 @@ IntegerSheet AsIntegers(const RationalSheet& sheet) {
   return integer;
 }
 
-// Solves `request` on both fixtures; expects both feasible, the flow's answer an integer sheet the
-// consistency rows accept, and returns both costs.
-std::pair<double, double> SolveBoth(SheetLpFixture& flow, SheetLpFixture& lp,
-                                    const SheetRequest& request, RationalSheet* flow_sheet) {
+// Both fixtures' answers to one request: their costs, and whether the flow answered (else the
+// flow fixture's LP did).
+struct BothAnswers {
+  double flow_cost, lp_cost;
+  bool by_flow;
+};
+
+// Solves `request` on both fixtures; expects both feasible, the flow fixture's answer an integer
+// sheet the consistency rows accept.
+BothAnswers SolveBoth(SheetLpFixture& flow, SheetLpFixture& lp, const SheetRequest& request,
+                      RationalSheet* flow_sheet) {
   RationalSheet lp_sheet;
   const int64_t flow_solves = flow.lp().flow_solves();
   const absl::StatusOr<bool> by_flow = flow.lp().Solve(request, flow_sheet);
   const absl::StatusOr<bool> by_lp = lp.lp().Solve(request, &lp_sheet);
   EXPECT_TRUE(by_flow.ok() && by_lp.ok());
   EXPECT_TRUE(*by_flow && *by_lp);
-  EXPECT_EQ(flow.lp().flow_solves(), flow_solves + 1);
   EXPECT_EQ(lp.lp().flow_solves(), 0);
   EXPECT_TRUE(flow.lp().IsConsistent(AsIntegers(*flow_sheet)));
   return {Cost(flow.quantization(), *flow_sheet, request.weights),
-          Cost(lp.quantization(), lp_sheet, request.weights)};
+          Cost(lp.quantization(), lp_sheet, request.weights),
+          flow.lp().flow_solves() == flow_solves + 1};
 }
 
 TEST(SheetNetworkTest, UnitMovesCostWhatTheLpsOptimumCosts) {
@@ -93,8 +101,9 @@ TEST(SheetNetworkTest, UnitMovesCostWhatTheLpsOptimumCosts) {
     SCOPED_TRACE(step);
     const bool inflation = step % 3 != 2, deflation = step % 3 != 1;
     RationalSheet sheet;
-    const auto [flow_cost, lp_cost] =
+    const auto [flow_cost, lp_cost, by_flow] =
         SolveBoth(flow, lp, Request(WeightScheme::kUnitCost, true, inflation, deflation), &sheet);
+    EXPECT_TRUE(by_flow);
     EXPECT_NEAR(flow_cost, lp_cost, 1e-6 * (1 + std::abs(lp_cost)));
     for (const double v : sheet.values) {
       EXPECT_LE(v, inflation ? 1 : 0);
@@ -127,8 +136,9 @@ TEST(SheetNetworkTest, SeparatingRequestsCostWhatTheLpsOptimumCosts) {
   for (const bool deflation : {true, false}) {
     SCOPED_TRACE(deflation);
     RationalSheet sheet;
-    const auto [flow_cost, lp_cost] =
+    const auto [flow_cost, lp_cost, by_flow] =
         SolveBoth(flow, lp, Request(WeightScheme::kMarginalCost, false, true, deflation), &sheet);
+    EXPECT_TRUE(by_flow);
     EXPECT_NEAR(flow_cost, lp_cost, 1e-6 * (1 + std::abs(lp_cost)));
   }
 }
@@ -164,8 +174,9 @@ TEST(SheetNetworkTest, ARowOverFourPotentialsIsKeptBySplittingIt) {
     SCOPED_TRACE(unit_moves);
     const WeightScheme scheme = unit_moves ? WeightScheme::kUnitCost : WeightScheme::kMarginalCost;
     RationalSheet sheet;
-    const auto [flow_cost, lp_cost] =
+    const auto [flow_cost, lp_cost, by_flow] =
         SolveBoth(flow, lp, Request(scheme, unit_moves, true, true), &sheet);
+    EXPECT_TRUE(by_flow);
     // A restriction of the LP: never cheaper than its optimum, and the row holds.
     EXPECT_GE(flow_cost, lp_cost - 1e-6 * (1 + std::abs(lp_cost)));
     int64_t change = 0;
@@ -177,6 +188,96 @@ TEST(SheetNetworkTest, ARowOverFourPotentialsIsKeptBySplittingIt) {
     }
     EXPECT_GE(change, -flow.rows().slack(row));
   }
+}
+
+TEST(SheetNetworkTest, AroundAHoleEachSideGrowsAloneByMovingAPeriod) {
+  // A ring of eight blocks around a hole: the hole's two sides along an axis are bundles of their
+  // own, tied only by a period. A row that makes one side grow costs what the LP says only if the
+  // flow moves that period (at P = 0 the other side would have to grow too).
+  const TMesh mesh =
+      testing::TMeshOrDie(testing::BuildGridTMeshOrDie(testing::RingAroundAHole()).proto());
+  const ConsistencyMatrix consistency(mesh);
+  const ArcBundles bundles(mesh, consistency);
+  const std::optional<BundlePotentials> potentials =
+      BundlePotentials::Compute(mesh, consistency, bundles);
+  ASSERT_TRUE(potentials.has_value());
+  ASSERT_EQ(potentials->num_periods(), 2);
+  const double scaling = mesh.levels()[3].scaling;
+  int checked = 0;
+  for (BundleId b = 0; b < bundles.num_bundles(); ++b) {
+    if (potentials->periods(b).empty()) continue;
+    SCOPED_TRACE(b);
+    for (const int64_t growth : {1, 2}) {
+      SheetLpFixture flow(mesh, scaling, {.flows = true});
+      SheetLpFixture lp(mesh, scaling);
+      for (SheetLpFixture* fixture : {&flow, &lp}) {
+        const int32_t r =
+            fixture->AddRow({{b, 1}}, fixture->quantization().value(b) + growth, true);
+        const std::vector<int32_t> added = {r};
+        fixture->lp().AddRows(added);
+      }
+      RationalSheet sheet;
+      const auto [flow_cost, lp_cost, by_flow] =
+          SolveBoth(flow, lp, Request(WeightScheme::kMarginalCost, false, true, true), &sheet);
+      EXPECT_TRUE(by_flow);
+      EXPECT_NEAR(flow_cost, lp_cost, 1e-6 * (1 + std::abs(lp_cost)));
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 4);
+}
+
+TEST(SheetNetworkTest, OnAPartWithHandlesTheDescentStopsWhereTheLpsDoes) {
+  // A part with through holes (the single family): the flow answers the descent's steps while
+  // it finds one that descends, never cheaper than the LP's optimum; where it finds none the LP
+  // answers if the request asks it to confirm (the pump's thorough pass), so the descent stops
+  // only where the LP finds no step either.
+  const absl::StatusOr<testing::GridTMesh> grid =
+      bench::BuildLargeTMesh(bench::LargeFamily::kSingleSubproblem, 3000, 5);
+  ASSERT_TRUE(grid.ok()) << grid.status();
+  const TMesh mesh = testing::TMeshOrDie(grid->proto());
+  const double scaling = mesh.levels()[5].scaling;
+  SheetLpFixture flow(mesh, scaling, {.flows = true});
+  SheetLpFixture lp(mesh, scaling);
+  int answered_by_flow = 0, answered_by_lp = 0, idle = 0;
+  for (int step = 0; step < 60 && idle < 3; ++step) {
+    SCOPED_TRACE(step);
+    const bool inflation = step % 3 != 2, deflation = step % 3 != 1;
+    RationalSheet sheet;
+    SheetRequest request = Request(WeightScheme::kUnitCost, true, inflation, deflation);
+    request.confirm_stalled_flow = true;
+    const auto [flow_cost, lp_cost, by_flow] = SolveBoth(flow, lp, request, &sheet);
+    const double tolerance = 1e-6 * (1 + std::abs(lp_cost));
+    EXPECT_GE(flow_cost, lp_cost - tolerance);
+    if (by_flow) {
+      ++answered_by_flow;
+      EXPECT_LT(flow_cost, 0);
+    } else {
+      ++answered_by_lp;
+      EXPECT_NEAR(flow_cost, lp_cost, tolerance);
+    }
+    for (const double v : sheet.values) {
+      EXPECT_LE(v, inflation ? 1 : 0);
+      EXPECT_GE(v, deflation ? -1 : 0);
+    }
+    if (flow_cost >= -1e-9) {
+      EXPECT_GE(lp_cost, -tolerance);
+      ++idle;
+      continue;
+    }
+    idle = 0;
+    const IntegerSheet moves = AsIntegers(sheet);
+    flow.Apply(moves);
+    lp.Apply(moves);
+    EXPECT_EQ(flow.rows().num_violated_active(), 0);
+  }
+  EXPECT_EQ(idle, 3);  // no step in any mode, by the LP's word
+  EXPECT_GT(answered_by_flow, 2);
+  EXPECT_GT(answered_by_lp, 2);
+  // Unasked, the flow answers where it stalls.
+  RationalSheet sheet;
+  EXPECT_TRUE(
+      SolveBoth(flow, lp, Request(WeightScheme::kUnitCost, true, true, true), &sheet).by_flow);
 }
 
 }  // namespace
