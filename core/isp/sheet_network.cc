@@ -335,7 +335,12 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
   if (!period_move_.empty()) {
     // Another P may be feasible: the LP answers.
     if (outcome == Outcome::kInfeasible) return Outcome::kUnanswered;
-    if (outcome == Outcome::kOptimal) outcome = SearchPeriods(rows, should_stop, flow, &cost);
+    // An answer that descends at P = 0 is taken as it is: each trial of P copies the network
+    // (searching for descending answers too took a 10^6-arc part at level 5 from 9.3 to 10.4 s
+    // CPU, the same objective).
+    if (outcome == Outcome::kOptimal && cost >= -1e-9 * (1 + std::abs(cost))) {
+      outcome = SearchPeriods(rows, should_stop, flow, &cost);
+    }
   }
   std::vector<Difference> split_rows;
   for (int round = 0; outcome == Outcome::kOptimal; ++round) {

@@ -36,10 +36,11 @@
 // U[head] - U[tail] plus an integer combination of periods P. A period is free where every bundle
 // carrying it is in the subproblem and can move (else it stays); each fixed P only shifts the
 // costs of its bundles' arcs and of the difference rows over them, so the flow is solved for P = 0
-// first and then for P moved by unit steps against the gradient the optimal flow gives (all the
-// periods it would move, then the steeper half, ..., then single ones), each solve from the last
-// optimal tree, for as long as the answer gets cheaper. The answer is the cheapest integer sheet
-// over the P visited: feasible for the LP, not always its optimum (answer_cost() and
+// first and, unless that answer already descends (costs less than nothing), then for P moved by
+// unit steps against the gradient the optimal flow gives (all the periods it would move, then the
+// steeper half, ..., then single ones), each solve from the last optimal tree, for as long as the
+// answer gets cheaper. The answer is the cheapest integer sheet over the P visited: feasible for
+// the LP, not always its optimum (answer_cost() and
 // has_free_periods() let the caller ask the LP where that matters). A row with a period term and a
 // coefficient other than +-1 over its potentials stays a side row; where the flow at P = 0 is
 // infeasible the LP answers.
