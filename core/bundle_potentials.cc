@@ -128,12 +128,7 @@ std::optional<BundlePotentials> BundlePotentials::Compute(const TMesh& mesh,
     MergeRepeatedTerms(terms);
     if (!terms.empty()) return std::nullopt;
   }
-  if (FirstBettiNumber(mesh) != 0) {
-    std::optional<PotentialPeriods> periods = FindPotentialPeriods(
-        potentials.num_potentials_, potentials.tail_, potentials.head_, consistency, bundles);
-    if (!periods.has_value()) return std::nullopt;
-    potentials.periods_ = *std::move(periods);
-  }
+  potentials.has_handles_ = FirstBettiNumber(mesh) != 0;
   return potentials;
 }
 

@@ -11,25 +11,25 @@
 // the part has no handle (first Betti number 0) every consistent q is such a difference: every
 // cycle of arcs bounds patches, whose rows make its displacement zero. So a problem over
 // consistent q becomes a problem over potentials with the consistency rows gone, which is what
-// turns the bulk descent's LP into a min-cost flow (core/isp/sheet_network.h).
+// turns the bulk descent's LP into a min-cost flow (core/isp/sheet_network.h). Where the part has
+// handles (through holes), the two sides of a hole may differ in length under consistency alone:
+// such q are no differences, so a problem over potentials is a restriction there (has_handles()).
 //
 // Compute() checks all of this and returns nothing if any of it fails: frames that are not
-// global, a handle (the Betti number from the Euler characteristic of nodes, arcs, patches and
-// blocks and the number of boundary shells), arcs of one bundle between different potentials, or
-// a consistency row that the potentials do not satisfy identically (a check of the construction
-// itself, which also guards it against meshes the topological count misjudges).
+// global, arcs of one bundle between different potentials, or a consistency row that the
+// potentials do not satisfy identically (a check of the construction itself). Handles are counted
+// by the Betti number from the Euler characteristic of nodes, arcs, patches and blocks and the
+// number of boundary shells.
 #ifndef ISPQ_CORE_BUNDLE_POTENTIALS_H_
 #define ISPQ_CORE_BUNDLE_POTENTIALS_H_
 
 #include <cstdint>
 #include <optional>
-#include <span>
 #include <vector>
 
 #include "core/arc_bundles.h"
 #include "core/consistency_matrix.h"
 #include "core/disjoint_sets.h"
-#include "core/potential_periods.h"
 #include "core/tmesh.h"
 
 namespace ispq {
@@ -47,21 +47,18 @@ class BundlePotentials {
                                                  const ArcBundles& bundles);
 
   int num_potentials() const { return num_potentials_; }
-  // q of every arc of bundle b is U[head(b)] - U[tail(b)] plus coef * P[var] for each of its
-  // period terms.
+  // q of every arc of bundle b is U[head(b)] - U[tail(b)].
   int32_t tail(BundleId b) const { return tail_[b]; }
   int32_t head(BundleId b) const { return head_[b]; }
-  int32_t num_periods() const { return periods_.num_periods; }
-  std::span<const LinearTerm> periods(BundleId b) const {
-    return periods_.num_periods == 0 ? std::span<const LinearTerm>() : periods_.terms[b];
-  }
+  // Whether the part has handles: then some consistent q are no potential differences.
+  bool has_handles() const { return has_handles_; }
 
  private:
   BundlePotentials() = default;
 
   int32_t num_potentials_ = 0;
   std::vector<int32_t> tail_, head_;
-  PotentialPeriods periods_;  // none where the part has no handle
+  bool has_handles_ = false;
 };
 
 }  // namespace ispq

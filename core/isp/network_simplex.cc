@@ -42,16 +42,6 @@ void NetworkSimplex::AddSupply(int node, double amount) {
   supply_[node] += amount;
 }
 
-void NetworkSimplex::SetCost(int arc, double cost) {
-  ISPQ_RELEASE_INVARIANT(first_artificial_ < 0 || resumable_,
-                         "costs change before a solve or after an optimal one");
-  ISPQ_RELEASE_INVARIANT(
-      first_artificial_ < 0 || arc < first_artificial_ || arc >= first_artificial_ + num_nodes_,
-      "a real arc's cost changes");
-  cost_[arc] = cost;
-  costs_changed_ = first_artificial_ >= 0;
-}
-
 void NetworkSimplex::Link(int child, int parent) {
   parent_[child] = parent;
   prev_sibling_[child] = -1;
@@ -108,33 +98,26 @@ void NetworkSimplex::InitTree() {
 
 void NetworkSimplex::ResumeTree() {
   double max_cost = max_cost_;
-  const int first_new = costs_changed_ ? 0 : first_artificial_ + num_nodes_;
-  for (int a = first_new; a < num_arcs(); ++a) {
-    const bool artificial = a >= first_artificial_ && a < first_artificial_ + num_nodes_;
-    if (!artificial) max_cost = std::max(max_cost, std::abs(cost_[a]));
+  for (int a = first_artificial_ + num_nodes_; a < num_arcs(); ++a) {
+    max_cost = std::max(max_cost, std::abs(cost_[a]));
   }
   if (max_cost > max_cost_) {
     max_cost_ = max_cost;
     big_m_ = (max_cost_ + 1) * (num_nodes_ + 1);
     for (int a = first_artificial_; a < first_artificial_ + num_nodes_; ++a) cost_[a] = big_m_;
-    costs_changed_ = true;
-  }
-  if (costs_changed_) RecomputePotentials();
-  costs_changed_ = false;
-  block_size_ = std::max(16, static_cast<int>(std::sqrt(static_cast<double>(num_arcs()))));
-}
-
-void NetworkSimplex::RecomputePotentials() {
-  stack_.assign(1, root_);
-  while (!stack_.empty()) {
-    const int x = stack_.back();
-    stack_.pop_back();
-    for (int c = first_child_[x]; c >= 0; c = next_sibling_[c]) {
-      const int a = pred_arc_[c];
-      potential_[c] = pred_up_[c] ? potential_[x] - cost_[a] : potential_[x] + cost_[a];
-      stack_.push_back(c);
+    // Every tree arc has reduced cost zero again: potentials from the root down.
+    stack_.assign(1, root_);
+    while (!stack_.empty()) {
+      const int x = stack_.back();
+      stack_.pop_back();
+      for (int c = first_child_[x]; c >= 0; c = next_sibling_[c]) {
+        const int a = pred_arc_[c];
+        potential_[c] = pred_up_[c] ? potential_[x] - cost_[a] : potential_[x] + cost_[a];
+        stack_.push_back(c);
+      }
     }
   }
+  block_size_ = std::max(16, static_cast<int>(std::sqrt(static_cast<double>(num_arcs()))));
 }
 
 int NetworkSimplex::FindEnteringArc() {

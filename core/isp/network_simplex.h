@@ -15,7 +15,7 @@
 // Arcs added after an optimal solve join at their lower bound, where the flow stays feasible, so
 // the next solve goes on from that tree (core/isp/sheet_network.h prices each split of a side row
 // this way, from a copy); if a new arc costs more than M was made for, M grows and the tree's
-// potentials are recomputed. Costs may change after an optimal solve in the same way.
+// potentials are recomputed.
 //
 // Potentials are the duals of the node rows: at the optimum every arc's reduced cost
 // cost + potential(from) - potential(to) is >= 0 where the arc carries no flow and <= 0 where it
@@ -52,10 +52,6 @@ class NetworkSimplex {
   int AddArc(int from, int to, double cost, double capacity);
   // Supplies are set before the first solve.
   void AddSupply(int node, double amount);
-  // A real arc's cost changes, before the first solve or after one that ended kOptimal: the flow
-  // stays feasible, so the next Solve() goes on from that tree, its potentials recomputed (the
-  // sheet network moves a period this way, core/isp/sheet_network.h).
-  void SetCost(int arc, double cost);
 
   // Solves, or after a solve that ended kOptimal and new arcs, solves again from where it ended
   // (a copy of the object keeps a tree to start several such solves from). `should_stop` is
@@ -72,10 +68,8 @@ class NetworkSimplex {
   // node to its parent if pred_up_ (else from the parent to the node).
   void InitTree();
   // Arcs added since the last solve join at their lower bound; if one costs more than the big-M
-  // start allows for, M grows and the potentials follow, as they do changed costs.
+  // start allows for, M grows and the potentials follow.
   void ResumeTree();
-  // Every tree arc's reduced cost zero again: potentials from the root down.
-  void RecomputePotentials();
   int FindEnteringArc();
   // The cycle the entering arc closes, its flow change and the leaving arc; false if unbounded.
   bool Pivot(int entering);
@@ -92,8 +86,7 @@ class NetworkSimplex {
   int first_artificial_ = -1;  // the artificial arcs' ids follow, one per node; -1 before a solve
   double max_cost_ = 1;        // the largest |cost| that big_m_ covers
   double big_m_ = 0;
-  bool resumable_ = false;      // the last solve ended kOptimal
-  bool costs_changed_ = false;  // SetCost() since the last solve
+  bool resumable_ = false;  // the last solve ended kOptimal
   std::vector<int32_t> from_, to_;
   std::vector<double> cost_, capacity_, flow_;
   std::vector<double> supply_;

@@ -32,18 +32,11 @@
 // rhs is not a multiple of its coefficient, the network gives no answer and the LP is solved as
 // before. Bundles outside the subproblem do not move: their potentials are merged.
 //
-// On parts with handles a bundle's q also carries periods (core/potential_periods.h): its move is
-// U[head] - U[tail] plus an integer combination of periods P. A period is free where every bundle
-// carrying it is in the subproblem and can move (else it stays); each fixed P only shifts the
-// costs of its bundles' arcs and of the difference rows over them, so the flow is solved for P = 0
-// first and, unless that answer already descends (costs less than nothing), then for P moved by
-// unit steps against the gradient the optimal flow gives (all the periods it would move, then the
-// steeper half, ..., then single ones), each solve from the last optimal tree, for as long as the
-// answer gets cheaper. The answer is the cheapest integer sheet over the P visited: feasible for
-// the LP, not always its optimum (answer_cost() and
-// has_free_periods() let the caller ask the LP where that matters). A row with a period term and a
-// coefficient other than +-1 over its potentials stays a side row; where the flow at P = 0 is
-// infeasible the LP answers.
+// On parts with handles not every consistent move is a potential difference (the two sides of a
+// hole may move apart): the network holds those periods at zero, so its answers there are
+// feasible for the LP but not always its optimum (holds_periods()); the caller asks the LP where
+// that matters (core/isp/sheet_subproblem.h), and where the flow finds no moves at all (moving a
+// period might), the LP answers.
 #ifndef ISPQ_CORE_ISP_SHEET_NETWORK_H_
 #define ISPQ_CORE_ISP_SHEET_NETWORK_H_
 
@@ -54,7 +47,6 @@
 
 #include "core/arc_bundles.h"
 #include "core/bundle_potentials.h"
-#include "core/flat_lists.h"
 #include "core/isp/inequality_rows.h"
 #include "core/isp/network_simplex.h"
 #include "core/isp/sheet_lp.h"
@@ -86,9 +78,8 @@ class SheetNetwork {
                 const LpStopCheck& should_stop, std::vector<std::pair<BundleId, int64_t>>* moves);
   // The cost of the last kOptimal answer, by the weights it was asked with.
   double answer_cost() const { return answer_cost_; }
-  // Whether the answers move periods: then they are the cheapest over the P visited, not always
-  // the LP's optimum.
-  bool has_free_periods() const { return !period_move_.empty(); }
+  // Whether the part has handles, whose periods the answers hold at zero.
+  bool holds_periods() const { return holds_periods_; }
 
  private:
   // A side row made to hold by its term `term` (SplitRow).
@@ -99,41 +90,18 @@ class SheetNetwork {
   };
   struct Difference {
     int32_t from, to;
-    int64_t rhs;            // U[to] - U[from] >= rhs
-    int32_t row = kNoId;    // the active row it stands for, or kNoId (a split's)
-    bool periodic = false;  // a term of the row carries a free period: rhs follows P
+    int64_t rhs;  // U[to] - U[from] >= rhs
   };
 
-  // The period shift of local bundle i's move: its free periods' P, each times its coefficient.
-  int64_t Shift(size_t i) const {
-    int64_t shift = 0;
-    for (const LinearTerm& t : local_periods_[static_cast<int>(i)]) {
-      shift += t.coef * period_move_[t.var];
-    }
-    return shift;
-  }
   // A row over nodes: a difference constraint, or a side row (false).
   bool AsDifference(std::span<const LinearTerm> terms, int64_t slack, Difference* difference);
-  // Sorts the active rows into differences_ and side_rows_.
-  void CollectRows(const InequalityRows& rows, std::span<const int32_t> subproblem_rows);
   // The difference rows of a split: term `split.term` of the row >= -slack, every other >= 0.
   // false if one of them cannot hold (a bundle that cannot move would have to).
   bool SplitRow(const InequalityRows& rows, const Split& split,
                 std::vector<Difference>* differences) const;
-  // The network of the bundles' arcs and `differences_` (their arcs' ids kept).
-  NetworkSimplex BuildNetwork();
-  static int AddDifference(const Difference& d, NetworkSimplex& flow);
-  // The costs of the bundles' arcs and the difference rows after P moved.
-  void SetPeriodCosts(const InequalityRows& rows, NetworkSimplex& flow);
-  // Moves the free periods by unit steps while the answer gets cheaper (`flow` solved at the
-  // current P, with `*cost`); on return flow, move_ and *cost are the cheapest answer seen.
-  Outcome SearchPeriods(const InequalityRows& rows, const LpStopCheck& should_stop,
-                        NetworkSimplex& flow, double* cost);
-  // The sets of unit steps of periods to try from the gradient, (period, +-1) each.
-  static std::vector<std::vector<std::pair<int32_t, int64_t>>> PeriodTrials(
-      const std::vector<double>& gradient, double tolerance);
-  // Per free period: the derivative of the answer's cost in P, from the optimal flow.
-  std::vector<double> PeriodGradient(const InequalityRows& rows, const NetworkSimplex& flow) const;
+  // The network of the bundles' arcs and `differences_`.
+  NetworkSimplex BuildNetwork() const;
+  static void AddDifference(const Difference& d, NetworkSimplex& flow);
   // Solves `flow` (again, after a split's rows were added); on kOptimal, move_ and *cost hold
   // its answer.
   Outcome SolveOnce(NetworkSimplex& flow, const LpStopCheck& should_stop, double* cost);
@@ -152,13 +120,8 @@ class SheetNetwork {
   int num_nodes_ = 0;
   std::vector<int64_t> move_;  // per local bundle, of the last solve
   double answer_cost_ = 0;
-  // Per local bundle: its arcs in the network (kNoId where absent) and its free periods' terms.
-  std::vector<int32_t> zero_arc_, down_arc_, up_arc_;
-  FlatLists<LinearTerm> local_periods_;
-  std::vector<int32_t> period_bundles_;  // the local bundles with a free period
-  std::vector<int64_t> period_move_;     // per free period: P of the current solve
-  std::vector<int32_t> difference_arc_;  // per difference row: its arc
-  std::vector<LinearTerm> node_terms_;   // scratch of AsDifference: terms over nodes
+  bool holds_periods_ = false;
+  std::vector<LinearTerm> node_terms_;  // scratch of AsDifference: terms over nodes
 };
 
 }  // namespace ispq

@@ -201,11 +201,10 @@ std::optional<bool> SheetSubproblem::SolveAsFlow(const SheetRequest& request, do
       network_weights_, request.allow_inflation ? bound : 0, request.allow_deflation ? bound : 0,
       *context_->rows, rows_, context_->should_stop, &moves_);
   if (outcome == SheetNetwork::Outcome::kUnanswered) return std::nullopt;
-  // Where periods move, a descent the flow cannot continue may still go on in the LP (moving
-  // several periods at once), if the request asks (the bound is the pump's own tolerance on a
-  // step's gain).
+  // On a part with handles a descent the flow cannot continue may still go on in the LP, which
+  // moves periods, if the request asks (the bound is the pump's own tolerance on a step's gain).
   if (request.unit_moves && request.confirm_stalled_flow &&
-      outcome == SheetNetwork::Outcome::kOptimal && network_->has_free_periods() &&
+      outcome == SheetNetwork::Outcome::kOptimal && network_->holds_periods() &&
       network_->answer_cost() >= -1e-9 * (1 + std::abs(context_->quantization->objective()))) {
     return std::nullopt;
   }
