@@ -27,8 +27,8 @@
 namespace ispq {
 namespace {
 
-// A request for the bulk descent's LP (SheetRequest::unit_moves) in the given directions; a
-// thorough pass's has the LP confirm a stalled flow (SheetRequest::confirm_stalled_flow).
+// A request for the bulk descent's LP (SheetRequest::unit_moves) in the given directions; in a
+// thorough pass the LP confirms a flow that finds no step (SheetRequest::confirm_stalled_flow).
 SheetRequest UnitMoves(bool allow_inflation, bool allow_deflation, bool thorough) {
   SheetRequest request;
   request.unit_moves = true;

@@ -34,10 +34,10 @@ struct SheetRequest {
   // bundle moves by at most one unit, priced by its exact objective change (kUnitCost), so the
   // LP's optimum is the best combination of unit moves, and a negative optimum an improvement.
   bool unit_moves = false;
-  // For unit moves on parts with handles, where the flow holds the periods (core/isp/
-  // sheet_network.h): whether a flow that finds no descent hands the request to the LP, which
-  // moves them. The pump asks it in its thorough final pass, so that a valid q from the flows
-  // comes first and the descent then stops only where the LP does.
+  // For unit moves on parts with handles, where the flow holds the periods at zero
+  // (core/isp/sheet_network.h): whether a flow that finds no descent hands the request to the LP,
+  // which moves them. The pump asks it in its thorough final pass, so that a valid q from the
+  // flows comes first and the descent then stops only where the LP does.
   bool confirm_stalled_flow = false;
 };
 
