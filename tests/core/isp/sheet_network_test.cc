@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 // Sheet LPs without a root solved as flows (core/isp/sheet_network.h), side by side with the LP
 // on the same subproblem: the same optimum for the bulk descent's unit moves and for separating
-// requests, integer answers, and rows over more than two potentials kept by splitting.
+// requests, integer answers, and rows over more than two potentials kept by splitting; on parts
+// with handles a restriction of the LP, which confirms a descent the flow cannot continue.
 #include "core/isp/sheet_network.h"
 
 #include <cmath>
