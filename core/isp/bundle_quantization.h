@@ -49,6 +49,8 @@ class BundleQuantization {
   }
 
   double objective() const { return objective_; }
+  // A step gains something only below minus this: rounding noise of the objective's sums.
+  double GainTolerance() const { return 1e-9 * (1.0 + std::abs(objective_)); }
   StepQuadratic Quadratic(const IntegerSheet& sheet) const;
   // Objective change if bundle b alone moved by delta.
   double MoveChange(BundleId b, int64_t delta) const {

@@ -132,7 +132,7 @@ class IntegerSheetPump {
   GreedyQueue& QueueOf(bool thorough) { return thorough ? thorough_queue_ : queue_; }
   // Rows joined the active rows: the roots whose last sheet crossed them are pumped again.
   void RequeueUsersOfRows(std::span<const int32_t> new_rows);
-  double Tolerance() const { return 1e-9 * (1.0 + std::abs(quantization_.objective())); }
+  double Tolerance() const { return quantization_.GainTolerance(); }
 
   // Separating updates (Alg. 3, App. B): one solve per subproblem with violated rows.
   absl::StatusOr<bool> SeparatingUpdate();

@@ -212,18 +212,16 @@ SheetNetwork::Outcome SheetNetwork::Solve(std::span<const BundleWeights> weights
     // No split holds: the LP may still find moves that keep the row.
     if (!best_flow.has_value()) return Outcome::kUnanswered;
     move_.swap(best_move);
+    cost = best_cost;
     flow = *std::move(best_flow);
   }
   // Only the first solve can fail here, without splits: its infeasibility is the LP's.
   if (outcome != Outcome::kOptimal) return outcome;
   moves->clear();
-  answer_cost_ = 0;
   for (size_t i = 0; i < bundles_.size(); ++i) {
-    if (move_[i] == 0) continue;
-    moves->push_back({bundles_[i], move_[i]});
-    answer_cost_ +=
-        static_cast<double>(move_[i]) * (move_[i] > 0 ? weights_[i].inflate : -weights_[i].deflate);
+    if (move_[i] != 0) moves->push_back({bundles_[i], move_[i]});
   }
+  answer_cost_ = cost;
   return Outcome::kOptimal;
 }
 

@@ -202,10 +202,10 @@ std::optional<bool> SheetSubproblem::SolveAsFlow(const SheetRequest& request, do
       *context_->rows, rows_, context_->should_stop, &moves_);
   if (outcome == SheetNetwork::Outcome::kUnanswered) return std::nullopt;
   // On a part with handles a descent the flow cannot continue may still go on in the LP, which
-  // moves periods, if the request asks (the bound is the pump's own tolerance on a step's gain).
+  // moves periods, if the request asks.
   if (request.unit_moves && request.confirm_stalled_flow &&
       outcome == SheetNetwork::Outcome::kOptimal && network_->holds_periods() &&
-      network_->answer_cost() >= -1e-9 * (1 + std::abs(context_->quantization->objective()))) {
+      network_->answer_cost() >= -context_->quantization->GainTolerance()) {
     return std::nullopt;
   }
   ++solver_calls_;
