@@ -18,8 +18,10 @@ namespace {
 // thousands of pivots (the bulk descent's first LP: 46k at 100k arcs, 130k at 300k): refactorizing
 // every 400 of them instead of every 100 took the greedy phase of the 300k-arc assembly from 99 to
 // 44 s CPU at level 100 and 16 to 7 s at level 5, the same objectives (800: 5 s at level 5, but
-// the separating updates' solves 1.4x slower).
-constexpr ClpSheetLpOptions kFreshClp = {.factorization_frequency = 400};
+// the separating updates' solves 1.4x slower). Its steepest edge weights start at one rather than
+// computed (ClpSheetLpOptions::dual_pricing says what that saves).
+constexpr ClpSheetLpOptions kFreshClp = {
+    .factorization_frequency = 400, .dual_pricing = ClpDualPricing::kSteepestEdgeFromUnitWeights};
 
 // Whether every point of the column box satisfies `row` of `simplex`: such a row can never bind,
 // and a solver that is not given it finds the same optima. Most rows of a bulk descent's LP are

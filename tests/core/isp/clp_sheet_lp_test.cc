@@ -65,13 +65,16 @@ TEST(ClpSheetLpTest, ReportsItsBasisAndPivots) {
 }
 
 // The same edits with and without CLP's work areas kept between solves (and with the primal
-// simplex) give the same optima, also after rows are appended to a solved model.
+// simplex, and with the dual's steepest edge weights started at one) give the same optima, also
+// after rows are appended to a solved model.
 TEST(ClpSheetLpTest, KeptFactorizationChangesNoAnswer) {
   constexpr int kColumns = 16;
   std::vector<std::unique_ptr<SheetLp>> lps;
   lps.push_back(NewClpSheetLp(kColumns, {.keep_factorization = true}));
   lps.push_back(NewClpSheetLp(kColumns, {.keep_factorization = false}));
   lps.push_back(NewClpSheetLp(kColumns, {.algorithm = ClpAlgorithm::kPrimal}));
+  lps.push_back(
+      NewClpSheetLp(kColumns, {.dual_pricing = ClpDualPricing::kSteepestEdgeFromUnitWeights}));
   std::mt19937 random(3);
   std::uniform_real_distribution<double> cost(0.1, 10);
   std::uniform_int_distribution<int> column(0, kColumns - 1);
@@ -107,6 +110,7 @@ TEST(ClpSheetLpTest, KeptFactorizationChangesNoAnswer) {
     }
     EXPECT_NEAR(objectives[1], objectives[0], 1e-7);
     EXPECT_NEAR(objectives[2], objectives[0], 1e-7);
+    EXPECT_NEAR(objectives[3], objectives[0], 1e-7);
   }
 }
 
