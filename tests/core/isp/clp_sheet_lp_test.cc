@@ -67,7 +67,7 @@ TEST(ClpSheetLpTest, ReportsItsBasisAndPivots) {
 // The same edits with and without CLP's work areas kept between solves (and with the primal
 // simplex, and with the dual's steepest edge weights started at one) give the same optima, also
 // after rows are appended to a solved model.
-TEST(ClpSheetLpTest, KeptFactorizationChangesNoAnswer) {
+TEST(ClpSheetLpTest, TheOptionsChangeNoAnswer) {
   constexpr int kColumns = 16;
   std::vector<std::unique_ptr<SheetLp>> lps;
   lps.push_back(NewClpSheetLp(kColumns, {.keep_factorization = true}));
