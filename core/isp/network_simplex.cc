@@ -70,7 +70,8 @@ void NetworkSimplex::InitTree() {
   const int n = num_nodes_ + 1;
   parent_.assign(n, -1);
   pred_arc_.assign(n, -1);
-  depth_.assign(n, 0);
+  visited_.assign(n, 0);
+  visit_stamp_ = 0;
   first_child_.assign(n, -1);
   next_sibling_.assign(n, -1);
   prev_sibling_.assign(n, -1);
@@ -89,7 +90,6 @@ void NetworkSimplex::InitTree() {
     pred_arc_[v] = num_arcs() - 1;
     pred_up_[v] = gives ? 1 : 0;
     potential_[v] = gives ? -big_m_ : big_m_;  // a zero reduced cost on the tree arc
-    depth_[v] = 1;
     Link(v, root_);
   }
   block_size_ = std::max(16, static_cast<int>(std::sqrt(static_cast<double>(num_arcs()))));
@@ -141,21 +141,33 @@ int NetworkSimplex::FindEnteringArc() {
   return entering;
 }
 
+int NetworkSimplex::Join(int u, int v) {
+  if (u == v) return u;
+  // Both walk up a step at a time, marking what they pass; the first to reach a node the other
+  // passed has found the join. Neither walks more than twice the longer of the two paths.
+  ++visit_stamp_;
+  visited_[u] = visited_[v] = visit_stamp_;
+  while (true) {
+    if (u != root_) {
+      u = parent_[u];
+      if (visited_[u] == visit_stamp_) return u;
+      visited_[u] = visit_stamp_;
+    }
+    if (v != root_) {
+      v = parent_[v];
+      if (visited_[v] == visit_stamp_) return v;
+      visited_[v] = visit_stamp_;
+    }
+  }
+}
+
 bool NetworkSimplex::Pivot(int entering) {
   // Flow goes round the cycle in the entering arc's direction if it enters from its lower bound
   // (else against it): from `first` up to the join, back down to `second`, and by the arc again.
   const bool at_lower = state_[entering] == 1;
   const int first = at_lower ? from_[entering] : to_[entering];
   const int second = at_lower ? to_[entering] : from_[entering];
-  int u = first, v = second;
-  while (u != v) {
-    if (depth_[u] >= depth_[v]) {
-      u = parent_[u];
-    } else {
-      v = parent_[v];
-    }
-  }
-  const int join = u;
+  const int join = Join(first, second);
   // The leaving arc: the blocking arc met last going round the cycle from the join (first's side
   // is walked against the cycle's direction, so ties there go to the arc found first; second's
   // side along it, so ties go to the one found last). This keeps the tree strongly feasible.
@@ -229,7 +241,6 @@ void NetworkSimplex::UpdateSubtree(int top, double shift) {
     const int x = stack_.back();
     stack_.pop_back();
     potential_[x] += shift;
-    depth_[x] = depth_[parent_[x]] + 1;
     for (int c = first_child_[x]; c >= 0; c = next_sibling_[c]) stack_.push_back(c);
   }
 }

@@ -7,9 +7,10 @@
 //
 // The textbook method (Ahuja, Magnanti, Orlin, "Network Flows", ch. 11): a spanning-tree basis
 // rooted at an artificial node, with an artificial arc of cost M from or to every node (big-M
-// start); parent, depth and child lists per node, so that a pivot walks only the cycle it closes
-// and re-hangs only the subtree it moves. Entering arcs by block search pricing (the most
-// negative reduced cost within blocks of about sqrt(arcs) arcs, going round the arc list);
+// start); parent and child lists per node, so that a pivot walks only the cycle it closes (its
+// ends climb to their join together, marking their way) and re-hangs only the subtree it moves,
+// whose potentials it shifts (no depths to keep there). Entering arcs by block search pricing (the
+// most negative reduced cost within blocks of about sqrt(arcs) arcs, going round the arc list);
 // leaving arcs by the strongly feasible tree rule, which rules out cycling on degenerate pivots.
 //
 // Arcs added after an optimal solve join at their lower bound, where the flow stays feasible, so
@@ -71,6 +72,8 @@ class NetworkSimplex {
   // start allows for, M grows and the potentials follow.
   void ResumeTree();
   int FindEnteringArc();
+  // The nearest common ancestor of u and v in the tree.
+  int Join(int u, int v);
   // The cycle the entering arc closes, its flow change and the leaving arc; false if unbounded.
   bool Pivot(int entering);
   void Link(int child, int parent);
@@ -92,10 +95,12 @@ class NetworkSimplex {
   std::vector<double> supply_;
   std::vector<int8_t> state_;  // per arc: 0 in the tree, 1 at its lower bound, -1 at its upper
 
-  std::vector<int32_t> parent_, pred_arc_, depth_, first_child_, next_sibling_, prev_sibling_;
+  std::vector<int32_t> parent_, pred_arc_, first_child_, next_sibling_, prev_sibling_;
   std::vector<uint8_t> pred_up_;
   std::vector<double> potential_;
   std::vector<int32_t> stack_;
+  std::vector<int64_t> visited_;  // per node: the stamp of the last Join that passed it
+  int64_t visit_stamp_ = 0;
   int next_arc_ = 0;  // where block search pricing goes on
   int block_size_ = 0;
   int64_t pivots_ = 0;
